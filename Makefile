@@ -1,0 +1,39 @@
+# planar-sym: read this as the table of contents of the project's chores.
+PYTHON ?= python3
+VENV   ?= .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+
+.PHONY: venv derive derive-check build test test-fast demo bench lint clean
+
+venv: $(STAMP)  ## virtual environment with the package (editable), derive and test extras
+
+$(STAMP): pyproject.toml constraints.txt
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test]'
+	touch $@
+
+derive: $(STAMP)  ## re-derive every built-in robot into generated/ (deterministic, atomic)
+	$(PY) -m derive
+
+derive-check: $(STAMP)  ## re-derive only robots whose generated/ is stale
+	$(PY) -m derive --if-stale
+
+build: $(STAMP)  ## compile the generated C of every robot into the cache
+	$(PY) -m planar_sym build
+
+test: $(STAMP)  ## the whole test suite
+	$(PY) -m pytest -q
+
+test-fast: $(STAMP)  ## tests without the slow re-derivation checks
+	$(PY) -m pytest -q -m "not slow"
+
+demo: derive-check build  ## every seed scenario into results/ (CSV + PNG)
+	$(PY) -m planar_sym run --all --out results
+
+lint: $(STAMP)  ## ruff on the sources (generated/ excluded)
+	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests
+
+clean:  ## remove build outputs (not the committed generated/)
+	rm -rf build dist *.egg-info results .pytest_cache

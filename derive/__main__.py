@@ -1,0 +1,76 @@
+"""``python -m derive [ROBOT ...] [--out DIR]``: derive, generate C, write generated/<robot>/.
+
+All robots are derived in memory first; only then is each folder swapped in atomically, so a
+failure or an interrupt leaves the committed files as they were.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from planar_sym.description import builtin_robots, load
+from planar_sym.errors import DescriptionError
+
+from . import codegen, model
+
+
+def write_atomically(files: dict[str, bytes], target: Path) -> None:
+    """Replace folder ``target`` by exactly ``files``, via a sibling temp folder and renames."""
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        for name, data in files.items():
+            (tmp / name).write_bytes(data)
+            os.chmod(tmp / name, 0o644)
+        os.chmod(tmp, 0o755)
+        old = None
+        if target.exists():
+            old = target.with_name(f".{target.name}.old.{os.getpid()}")
+            os.replace(target, old)
+        os.replace(tmp, target)
+        if old is not None:
+            shutil.rmtree(old)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp)
+
+
+def derive_robot(robot: str | Path) -> tuple[str, dict[str, bytes]]:
+    desc = load(robot)
+    return desc.name, codegen.render(model.build(desc))
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m derive", description=__doc__.splitlines()[0])
+    ap.add_argument("robots", nargs="*", help="built-in names or TOML paths (default: all built in)")
+    ap.add_argument("--out", type=Path, default=codegen.ROOT / "generated",
+                    help="output folder (default: generated/)")
+    ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    args = ap.parse_args(argv)
+    robots = args.robots or builtin_robots()
+    rendered = []
+    try:
+        for r in robots:
+            t0 = time.perf_counter()
+            rendered.append(derive_robot(r))
+            if not args.quiet:
+                print(f"derived {rendered[-1][0]} in {time.perf_counter() - t0:.2f} s",
+                      file=sys.stderr)
+    except DescriptionError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    for name, files in rendered:
+        write_atomically(files, args.out / name)
+        if not args.quiet:
+            print(f"wrote {args.out / name}/ ({', '.join(sorted(files))})", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

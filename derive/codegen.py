@@ -1,0 +1,244 @@
+"""CasADi functions of a model -> C source, header, manifest.json, written atomically.
+
+Every generated function is ``<robot>_<quantity>`` with named inputs in the one argument order
+``(q, qd, qdd|tau, p)``. Each also gets a ``_batch`` wrapper that loops over N samples in C
+(inputs and outputs row-major ``(N, size)``, ``p`` shared), so a whole trajectory is one call.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import casadi as ca
+import sympy as sp
+
+from planar_sym.description import Description
+
+from .model import Model
+from .to_casadi import Translator
+
+GENERATOR = "planar-sym derive (derive/codegen.py)"
+ROOT = Path(__file__).resolve().parent.parent
+#: sources whose change can change the generated files: they are part of the input hash
+HASHED_SOURCES = ("planar_sym/description.py", "planar_sym/units.py")
+
+_UNITS = {"q": "rad", "qd": "rad/s", "qdd": "rad/s^2", "tau": "N*m or N (per coordinate)"}
+
+
+@dataclass(frozen=True)
+class Generated:
+    """One CasADi function and what the manifest says about it."""
+
+    quantity: str
+    function: ca.Function
+    doc: str
+
+
+def relative_input(path: Path) -> str:
+    """Path of a description as recorded in headers: repo-relative when inside the repo."""
+    path = path.resolve()
+    try:
+        return path.relative_to(ROOT).as_posix()
+    except ValueError:
+        return path.name
+
+
+def input_hash(desc: Description) -> str:
+    """sha256 over the description, the derive sources and the derive toolchain versions."""
+    h = hashlib.sha256()
+    parts = [("description", desc.path.read_bytes())]
+    sources = sorted((ROOT / "derive").glob("*.py")) + [ROOT / s for s in HASHED_SOURCES]
+    parts += [(p.relative_to(ROOT).as_posix(), p.read_bytes()) for p in sources]
+    parts += [("sympy", sp.__version__.encode()), ("casadi", ca.__version__.encode())]
+    for label, data in parts:
+        h.update(f"{label}\0{len(data)}\0".encode())
+        h.update(data)
+    return h.hexdigest()
+
+
+def functions(model: Model) -> list[Generated]:
+    """The CasADi functions generated for one robot."""
+    s, lag, con = model.sym, model.lagrangian, model.constraints
+    n, n_p = len(s.q), len(s.p)
+    q, qd, qdd, tau = (ca.SX.sym(k, n) for k in ("q", "qd", "qdd", "tau"))
+    p = ca.SX.sym("p", n_p)
+    mapping = {sym: var[i] for syms, var in ((s.q, q), (s.qd, qd), (s.qdd, qdd), (s.tau, tau),
+                                             (s.p, p)) for i, sym in enumerate(syms)}
+    tr = Translator(mapping)
+    name = model.desc.name
+    M, h, g = tr.matrix(lag.mass_matrix), tr.matrix(lag.bias), tr.matrix(lag.gravity)
+
+    def fn(quantity, ins, outs, doc):
+        f = ca.Function(f"{name}_{quantity}", [v for _, v in ins], [v for _, v in outs],
+                        [k for k, _ in ins], [k for k, _ in outs])
+        return Generated(quantity, f, doc)
+
+    out = [
+        fn("mass_matrix", [("q", q), ("p", p)], [("M", M)], "mass matrix M(q)"),
+        fn("bias", [("q", q), ("qd", qd), ("p", p)], [("h", h)],
+           "h(q, qd) = C(q, qd) qd + g(q): velocity and gravity terms"),
+        fn("gravity", [("q", q), ("p", p)], [("g", g)], "gravity terms g(q) = dV/dq"),
+        fn("inverse_dynamics", [("q", q), ("qd", qd), ("qdd", qdd), ("p", p)],
+           [("tau", ca.mtimes(M, qdd) + h)], "tree inverse dynamics tau = M qdd + h"),
+        fn("energy", [("q", q), ("qd", qd), ("p", p)],
+           [("kinetic", tr(lag.kinetic)), ("potential", tr(lag.potential))],
+           "kinetic and potential energy (J)"),
+        fn("task", [("q", q), ("qd", qd), ("p", p)],
+           [("x", tr.matrix(model.task)), ("J", tr.matrix(model.task_jacobian)),
+            ("jdot_qd", tr.matrix(model.task_jdot_qd))],
+           "task coordinates x(q) (m, rad), Jacobian J = dx/dq and Jdot qd"),
+        fn("frames", [("q", q), ("p", p)], [("frames", tr.matrix(model.frames))],
+           "every body's frame: origin x, origin y (m), angle (rad); one row per body"),
+    ]
+    if con.count == 0:
+        qdd_free = ca.solve(M, tau - h)
+        out.append(fn("forward_dynamics", [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
+                      [("qdd", qdd_free)], "forward dynamics qdd = M^-1 (tau - h)"))
+        out.append(fn("forward_dynamics_jacobian",
+                      [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
+                      [("dqdd_dq", ca.jacobian(qdd_free, q)),
+                       ("dqdd_dqd", ca.jacobian(qdd_free, qd))],
+                      "Jacobian of the forward dynamics, for implicit integrators"))
+    else:
+        out += [
+            fn("constraint", [("q", q), ("p", p)], [("phi", tr.matrix(con.phi))],
+               "loop-closure residual Phi(q) (m)"),
+            fn("constraint_jacobian", [("q", q), ("p", p)], [("phi_q", tr.matrix(con.jacobian))],
+               "constraint Jacobian Phi_q = dPhi/dq"),
+            fn("constraint_bias", [("q", q), ("qd", qd), ("p", p)],
+               [("gamma", tr.matrix(con.accel_bias))],
+               "acceleration term gamma = -(Phi_q qd)_q qd, so Phi_q qdd = gamma"),
+        ]
+    return out
+
+
+def _batch_wrapper(g: Generated) -> str:
+    f = g.function
+    cname = f.name()
+    ins = [(f.name_in(i), f.size1_in(i) * f.size2_in(i)) for i in range(f.n_in())]
+    outs = [(f.name_out(i), f.size1_out(i) * f.size2_out(i)) for i in range(f.n_out())]
+    params = ["long long n"] + [f"const casadi_real *{k}" for k, _ in ins] + \
+             [f"casadi_real *{k}" for k, _ in outs]
+    lines = [
+        f"/* {cname}_batch: {g.doc}, at n samples; per-sample blocks row-major, p shared.",
+        "   Returns 0, or 1 + the index of the first sample the function failed on. */",
+        f"CASADI_SYMBOL_EXPORT int {cname}_batch({', '.join(params)}) {{",
+        f"  const casadi_real *arg[{max(f.sz_arg(), 1)}];",
+        f"  casadi_real *res[{max(f.sz_res(), 1)}];",
+        f"  casadi_int iw[{f.sz_iw() + 1}];",
+        f"  casadi_real w[{f.sz_w() + 1}];",
+        "  long long k;",
+        "  for (k = 0; k < n; ++k) {",
+    ]
+    for i, (k, size) in enumerate(ins):
+        lines.append(f"    arg[{i}] = {k};" if k == "p" else f"    arg[{i}] = {k} + k * {size};")
+    for i, (k, size) in enumerate(outs):
+        lines.append(f"    res[{i}] = {k} + k * {size};")
+    lines += [f"    if ({cname}(arg, res, iw, w, 0)) return (int)(k + 1);", "  }", "  return 0;",
+              "}", ""]
+    return "\n".join(lines)
+
+
+def _header_comment(model: Model, file: str, digest: str) -> str:
+    desc = model.desc
+    params = desc.parameters()
+    lines = [
+        f"{file}: generated by {GENERATOR}",
+        f"with CasADi {ca.__version__} and SymPy {sp.__version__}",
+        f"input: {relative_input(desc.path)}",
+        f"input hash: sha256:{digest}",
+        "do not edit: run `make derive`",
+        "",
+        "Inputs of the functions below (each takes those it needs, in this order):",
+        f"  q[{len(desc.coordinates)}]   : {list(desc.coordinates)} (rad)",
+        "  qd, qdd : their rates (rad/s, rad/s^2); tau: joint torques (N*m)",
+        f"  p[{len(params)}]  : parameters, SI:",
+    ]
+    lines += [f"    p[{i}] {par.name} = {par.value!r} {par.unit}" for i, par in enumerate(params)]
+    return "/* " + "\n * ".join(lines) + "\n */\n"
+
+
+def render(model: Model) -> dict[str, bytes]:
+    """All generated files of one robot, as bytes (nothing written yet)."""
+    from . import printing
+
+    desc, name = model.desc, model.desc.name
+    digest = input_hash(desc)
+    gens = functions(model)
+    cg = ca.CodeGenerator(name, {"with_header": False, "casadi_real": "double",
+                                 "casadi_int": "long long int"})
+    for g in gens:
+        cg.add(g.function)
+    body = cg.dump()
+    hash_fn = (f"CASADI_SYMBOL_EXPORT const char *{name}_input_hash(void) "
+               f'{{ return "{digest}"; }}\n')
+    c_src = (_header_comment(model, f"{name}.c", digest) + body + "\n" + hash_fn + "\n"
+             + "\n".join(_batch_wrapper(g) for g in gens))
+    h_lines = [f"#ifndef PLANAR_SYM_{name.upper()}_H", f"#define PLANAR_SYM_{name.upper()}_H",
+               "#ifndef casadi_real", "#define casadi_real double", "#endif",
+               "#ifndef casadi_int", "#define casadi_int long long int", "#endif",
+               f"const char *{name}_input_hash(void);"]
+    for g in gens:
+        f = g.function
+        args = ", ".join(["long long n"] + [f"const casadi_real *{f.name_in(i)}"
+                                            for i in range(f.n_in())]
+                         + [f"casadi_real *{f.name_out(i)}" for i in range(f.n_out())])
+        h_lines += [f"/* {g.doc} */",
+                    f"int {f.name()}(const casadi_real **arg, casadi_real **res, "
+                    "casadi_int *iw, casadi_real *w, int mem);",
+                    f"int {f.name()}_batch({args});"]
+    h_lines += ["#endif", ""]
+    h_src = _header_comment(model, f"{name}.h", digest) + "\n".join(h_lines)
+    eq = printing.render(model)
+    files = {
+        f"{name}.c": c_src.encode(),
+        f"{name}.h": h_src.encode(),
+        "equations.txt": (_text_header(model, "equations.txt", digest) + eq["text"]).encode(),
+        "equations.tex": (_text_header(model, "equations.tex", digest, "%") + eq["latex"]).encode(),
+    }
+    files["manifest.json"] = _manifest(model, gens, digest, files)
+    return files
+
+
+def _text_header(model: Model, file: str, digest: str, mark: str = "#") -> str:
+    return (f"{mark} {file}: generated by {GENERATOR} from {relative_input(model.desc.path)}\n"
+            f"{mark} input hash: sha256:{digest}\n{mark} do not edit: run `make derive`\n\n")
+
+
+def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> bytes:
+    desc = model.desc
+    funcs = {}
+    for g in gens:
+        f = g.function
+        funcs[g.quantity] = {
+            "symbol": f.name(),
+            "doc": g.doc,
+            "inputs": [[f.name_in(i), f.size1_in(i) * f.size2_in(i)] for i in range(f.n_in())],
+            "outputs": [[f.name_out(i), f.size1_out(i), f.size2_out(i)]
+                        for i in range(f.n_out())],
+        }
+    data = {
+        "robot": desc.name,
+        "title": desc.title,
+        "generator": GENERATOR,
+        "input": relative_input(desc.path),
+        "input_hash": digest,
+        "toolchain": {"casadi": ca.__version__, "sympy": sp.__version__},
+        "coordinates": list(desc.coordinates),
+        "coordinate_units": "rad",
+        "actuated": list(desc.actuated),
+        "q_drawn": list(desc.q_drawn()),
+        "task": list(desc.task_names),
+        "bodies": list(model.body_names),
+        "loops": [j.name for j in desc.loop_joints],
+        "constraints": model.constraints.count,
+        "parameters": [{"name": p.name, "value": p.value, "unit": p.unit, "meaning": p.meaning}
+                       for p in desc.parameters()],
+        "matrix_layout": "column-major (CasADi); per-sample blocks row-major",
+        "functions": funcs,
+        "files": {k: hashlib.sha256(v).hexdigest() for k, v in sorted(files.items())},
+    }
+    return (json.dumps(data, indent=2, sort_keys=False) + "\n").encode()

@@ -1,0 +1,179 @@
+"""A robot at run time: its compiled dynamics evaluated over whole trajectories.
+
+.. code:: text
+
+    M(q) qdd + h(q, qd) = tau,   h = C(q, qd) qd + g(q)
+
+Every array method takes per-sample arrays of shape ``(N, n)`` (or ``(n,)`` for one sample, in
+which case the result drops the sample axis too) and makes one compiled call for all N.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+from .library import Library
+
+
+@dataclass(frozen=True)
+class Parameter:
+    name: str
+    value: float
+    unit: str
+    meaning: str
+
+
+def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> np.ndarray:
+    """``a`` as a C-contiguous float64 (N, width) array; names the first bad sample."""
+    arr = np.asarray(a, dtype=np.float64)
+    if arr.ndim == 1:
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] != width:
+        raise InputError(f"{name} must have shape (N, {width}) or ({width},), "
+                         f"got {np.shape(a)}")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        k, col = np.argwhere(bad)[0]
+        when = f" (t = {times[k]:.6g} s)" if times is not None and k < len(times) else ""
+        raise InputError(f"{name}[{k}, {col}] is {arr[k, col]} at sample {k}{when}: "
+                         "inputs must be finite")
+    return np.ascontiguousarray(arr)
+
+
+class Robot:
+    """Compiled dynamics of one robot; parameters are an input vector, changeable at will."""
+
+    def __init__(self, name: str, library: Library | None = None,
+                 parameters: np.ndarray | None = None):
+        self.library = library or Library(name)
+        m = self.library.manifest
+        self.name = m["robot"]
+        self.title = m["title"]
+        self.coordinates: tuple[str, ...] = tuple(m["coordinates"])
+        self.actuated: tuple[int, ...] = tuple(m["actuated"])
+        self.task_names: tuple[str, ...] = tuple(m["task"])
+        self.body_names: tuple[str, ...] = tuple(m["bodies"])
+        self.n_constraints: int = m["constraints"]
+        self.q_drawn = np.array(m["q_drawn"])
+        self.parameter_list = tuple(Parameter(**p) for p in m["parameters"])
+        p = np.array([x.value for x in self.parameter_list]) if parameters is None else parameters
+        self.p = as_samples("parameters", p, len(self.parameter_list))[0].copy()
+        self._fns = self.library.functions
+
+    @property
+    def n(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def is_closed_chain(self) -> bool:
+        return self.n_constraints > 0
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        return {par.name: float(v) for par, v in zip(self.parameter_list, self.p)}
+
+    def with_parameters(self, **values: float) -> Robot:
+        """A copy with some parameters changed (SI units), no re-derivation needed."""
+        names = [par.name for par in self.parameter_list]
+        p = self.p.copy()
+        for k, v in values.items():
+            if k not in names:
+                raise InputError(f"unknown parameter {k!r} of {self.name}; known: "
+                                 f"{', '.join(names)}")
+            p[names.index(k)] = v
+        return Robot(self.name, self.library, p)
+
+    # -- evaluation --------------------------------------------------------------------------
+    def _call(self, quantity: str, **arrays) -> tuple[dict[str, np.ndarray], bool]:
+        single = all(np.ndim(a) == 1 for a in arrays.values())
+        args = {k: as_samples(k, a, self.n) for k, a in arrays.items()}
+        sizes = {a.shape[0] for a in args.values()}
+        if len(sizes) != 1:
+            raise InputError(f"{', '.join(args)} must have the same number of samples, got "
+                             + ", ".join(f"{k}: {a.shape[0]}" for k, a in args.items()))
+        args["p"] = self.p
+        return self._fns[quantity](sizes.pop(), args), single
+
+    @staticmethod
+    def _out(res: np.ndarray, single: bool) -> np.ndarray:
+        return res[0] if single else res
+
+    def mass_matrix(self, q) -> np.ndarray:
+        """M(q), shape (N, n, n) in kg*m^2."""
+        r, s = self._call("mass_matrix", q=q)
+        return self._out(r["M"], s)
+
+    def bias(self, q, qd) -> np.ndarray:
+        """h(q, qd) = C(q, qd) qd + g(q), shape (N, n), N*m."""
+        r, s = self._call("bias", q=q, qd=qd)
+        return self._out(r["h"], s)
+
+    def gravity(self, q) -> np.ndarray:
+        """g(q), shape (N, n), N*m."""
+        r, s = self._call("gravity", q=q)
+        return self._out(r["g"], s)
+
+    def tree_inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        """M qdd + h for every coordinate of the spanning tree, shape (N, n), N*m."""
+        r, s = self._call("inverse_dynamics", q=q, qd=qd, qdd=qdd)
+        return self._out(r["tau"], s)
+
+    def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        """Joint torques (N*m) of a serial (tree) robot, shape (N, n), one compiled call.
+
+        q : ndarray, shape (N, n), rad; qd : rad/s; qdd : rad/s^2.
+        """
+        if self.is_closed_chain:
+            raise InputError(f"{self.name} is a closed chain: use closed_chain_inverse_dynamics "
+                             "(torques and loop reaction forces together)")
+        return self.tree_inverse_dynamics(q, qd, qdd)
+
+    def forward_dynamics(self, q, qd, tau) -> np.ndarray:
+        """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2."""
+        if self.is_closed_chain:
+            raise InputError(f"{self.name} is a closed chain: use planar_sym.simulate")
+        r, s = self._call("forward_dynamics", q=q, qd=qd, tau=tau)
+        return self._out(r["qdd"], s)
+
+    def energy(self, q, qd) -> tuple[np.ndarray, np.ndarray]:
+        """Kinetic and potential energy (J), each shape (N,)."""
+        r, s = self._call("energy", q=q, qd=qd)
+        return self._out(r["kinetic"], s), self._out(r["potential"], s)
+
+    def task(self, q, qd=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Task coordinates x (m, rad), Jacobian J = dx/dq and Jdot qd at each sample."""
+        qd = np.zeros_like(np.asarray(q, dtype=float)) if qd is None else qd
+        r, s = self._call("task", q=q, qd=qd)
+        return self._out(r["x"], s), self._out(r["J"], s), self._out(r["jdot_qd"], s)
+
+    def frames(self, q) -> np.ndarray:
+        """Origin (m) and angle (rad) of every body frame, shape (N, bodies, 3)."""
+        r, s = self._call("frames", q=q)
+        return self._out(r["frames"], s)
+
+    def constraint(self, q) -> np.ndarray:
+        """Loop-closure residual Phi(q) (m), shape (N, 2 * loops)."""
+        r, s = self._call("constraint", q=q)
+        return self._out(r["phi"], s)
+
+    def constraint_jacobian(self, q) -> np.ndarray:
+        r, s = self._call("constraint_jacobian", q=q)
+        return self._out(r["phi_q"], s)
+
+    def constraint_bias(self, q, qd) -> np.ndarray:
+        """gamma = -(Phi_q qd)_q qd, so that Phi_q qdd = gamma."""
+        r, s = self._call("constraint_bias", q=q, qd=qd)
+        return self._out(r["gamma"], s)
+
+
+_CACHE: dict[str, Library] = {}
+
+
+def load(robot: str) -> Robot:
+    """A built-in (or ``PLANAR_SYM_GENERATED``) robot, compiled on first use."""
+    if robot not in _CACHE:
+        _CACHE[robot] = Library(robot)
+    return Robot(robot, _CACHE[robot])

@@ -1,0 +1,31 @@
+"""Errors a user sees: each names the file, field, time or sample at fault."""
+
+from __future__ import annotations
+
+
+class PlanarSymError(Exception):
+    """Base class of every error this package raises on purpose."""
+
+
+class DescriptionError(PlanarSymError):
+    """A robot description with problems; ``problems`` lists every one, each naming its field."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = list(problems)
+        super().__init__("invalid robot description:\n  " + "\n  ".join(self.problems))
+
+
+class LibraryError(PlanarSymError):
+    """Generated code or compiled library missing, stale or corrupt; says which command fixes it."""
+
+
+class InputError(PlanarSymError, ValueError):
+    """Bad runtime input: wrong shape, NaN or infinite value (names the sample)."""
+
+
+class WorkspaceError(PlanarSymError, ValueError):
+    """A task-space target the robot cannot reach (names the time and the target)."""
+
+
+class SimulationError(PlanarSymError, RuntimeError):
+    """The integrator failed; names the time it happened."""

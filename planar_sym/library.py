@@ -1,0 +1,185 @@
+"""Compiled generated code: find it, check it, build it once per input hash, call it in batches.
+
+Build policy (documented in the README): the committed C in ``generated/<robot>/`` is compiled on
+first use with ``cc -O3 -fPIC -shared`` into a cache folder keyed by the manifest's input hash
+(``$PLANAR_SYM_CACHE``, else ``$XDG_CACHE_HOME/planar_sym``, else ``~/.cache/planar_sym``).
+The build holds a file lock and renames the finished library into place, so concurrent
+processes neither corrupt nor half-read it. ``make build`` does the same ahead of time.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import fcntl
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import LibraryError
+
+CFLAGS = ("-O3", "-fPIC", "-shared", "-std=c99")
+_DIR = Path(__file__).resolve().parent
+
+
+def generated_dirs() -> list[Path]:
+    """Where generated robots are looked for, first match wins."""
+    dirs = [Path(d) for d in os.environ.get("PLANAR_SYM_GENERATED", "").split(os.pathsep) if d]
+    return dirs + [_DIR / "generated", _DIR.parent / "generated"]
+
+
+def find_generated(robot: str) -> Path:
+    for d in generated_dirs():
+        if (d / robot / "manifest.json").is_file():
+            return d / robot
+    raise LibraryError(
+        f"no generated code for robot {robot!r} (looked in "
+        f"{', '.join(str(d) for d in generated_dirs())}): run `make derive`")
+
+
+def cache_dir() -> Path:
+    if os.environ.get("PLANAR_SYM_CACHE"):
+        return Path(os.environ["PLANAR_SYM_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "planar_sym"
+
+
+def read_manifest(folder: Path) -> dict:
+    """The manifest, after checking every generated file against the hashes it lists."""
+    try:
+        manifest = json.loads((folder / "manifest.json").read_text())
+    except (OSError, ValueError) as exc:
+        raise LibraryError(f"{folder / 'manifest.json'} is unreadable ({exc}): "
+                           "run `make derive`") from None
+    for name, digest in manifest.get("files", {}).items():
+        path = folder / name
+        if not path.is_file():
+            raise LibraryError(f"{path} is missing: run `make derive`")
+        if hashlib.sha256(path.read_bytes()).hexdigest() != digest:
+            raise LibraryError(f"{path} does not match {folder / 'manifest.json'} (edited by "
+                               "hand or half-written): run `make derive`")
+    return manifest
+
+
+def _compiler() -> str:
+    cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
+    if not cc:
+        raise LibraryError("no C compiler found (set CC, or install gcc): the generated code "
+                           "is compiled on first use")
+    return cc
+
+
+def library_path(folder: Path, manifest: dict) -> Path:
+    key = hashlib.sha256(" ".join(CFLAGS).encode()).hexdigest()[:8]
+    return cache_dir() / f"{manifest['robot']}-{manifest['input_hash'][:16]}-{key}.so"
+
+
+def build(folder: Path, manifest: dict, force: bool = False) -> Path:
+    """Compile ``<robot>.c`` into the cache unless a library for this hash is there already."""
+    target = library_path(folder, manifest)
+    if target.exists() and not force:
+        return target
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with open(target.with_suffix(".lock"), "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # one builder at a time; the others wait, then reuse
+        if target.exists() and not force:
+            return target
+        fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
+        os.close(fd)
+        src = folder / f"{manifest['robot']}.c"
+        cmd = [_compiler(), *CFLAGS, "-o", tmp, str(src), "-lm"]
+        try:
+            proc = subprocess.run(cmd, capture_output=True, text=True)
+            if proc.returncode != 0:
+                raise LibraryError(f"compiling {src} failed ({' '.join(cmd)}):\n{proc.stderr}")
+            os.replace(tmp, target)
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    return target
+
+
+@dataclass(frozen=True)
+class FunctionSpec:
+    symbol: str
+    inputs: tuple[tuple[str, int], ...]
+    outputs: tuple[tuple[str, int, int], ...]
+
+
+class BatchFunction:
+    """One generated function over N samples: per-sample arrays in, arrays out, one C call."""
+
+    def __init__(self, lib: ctypes.CDLL, spec: FunctionSpec):
+        self.spec = spec
+        self._fn = getattr(lib, spec.symbol + "_batch")
+        self._fn.restype = ctypes.c_int
+        self._fn.argtypes = [ctypes.c_longlong] + [ctypes.c_void_p] * (
+            len(spec.inputs) + len(spec.outputs))
+
+    def __call__(self, n: int, args: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """``args`` maps input names to C-contiguous float64 arrays: (n, size), or (size,) for p."""
+        ptrs = []
+        for name, size in self.spec.inputs:
+            a = args[name]
+            expected = (size,) if name == "p" else (n, size)
+            if a.shape != expected or a.dtype != np.float64 or not a.flags.c_contiguous:
+                raise LibraryError(f"internal: {self.spec.symbol} input {name} is {a.shape} "
+                                   f"{a.dtype}, expected {expected} float64 contiguous")
+            ptrs.append(a.ctypes.data)
+        outs = {}
+        for name, rows, cols in self.spec.outputs:
+            outs[name] = np.empty((n, rows * cols))
+            ptrs.append(outs[name].ctypes.data)
+        status = self._fn(n, *ptrs)
+        if status:
+            raise LibraryError(f"{self.spec.symbol} failed at sample {status - 1}")
+        shaped = {}
+        for name, rows, cols in self.spec.outputs:
+            a = outs[name]
+            if rows == 1 and cols == 1:
+                shaped[name] = a[:, 0]
+            elif cols == 1:
+                shaped[name] = a
+            else:  # CasADi matrices are column-major
+                shaped[name] = a.reshape(n, cols, rows).transpose(0, 2, 1)
+        return shaped
+
+
+class Library:
+    """A robot's compiled functions, checked against its manifest."""
+
+    def __init__(self, robot: str, folder: Path | None = None):
+        self.folder = folder or find_generated(robot)
+        self.manifest = read_manifest(self.folder)
+        if self.manifest.get("robot") != robot:
+            raise LibraryError(f"{self.folder / 'manifest.json'} is for robot "
+                               f"{self.manifest.get('robot')!r}, not {robot!r}: run `make derive`")
+        self.path = build(self.folder, self.manifest)
+        self.lib = self._load(self.path)
+        self.functions = {
+            q: BatchFunction(self.lib, FunctionSpec(
+                f["symbol"], tuple(map(tuple, f["inputs"])), tuple(map(tuple, f["outputs"]))))
+            for q, f in self.manifest["functions"].items()}
+
+    def _load(self, path: Path) -> ctypes.CDLL:
+        robot, want = self.manifest["robot"], self.manifest["input_hash"]
+        try:
+            lib = ctypes.CDLL(str(path))
+            get = getattr(lib, f"{robot}_input_hash")
+        except (OSError, AttributeError) as exc:
+            raise LibraryError(f"compiled library {path} is corrupt or not for {robot} ({exc}): "
+                               f"delete it and run `make build`") from None
+        get.restype = ctypes.c_char_p
+        have = get().decode()
+        if have != want:
+            raise LibraryError(
+                f"compiled library {path} was built from input hash {have[:16]}..., but "
+                f"{self.folder / 'manifest.json'} says {want[:16]}...: delete it and run "
+                "`make build` (or `make derive` if the generated sources are stale)")
+        return lib

@@ -1,0 +1,1 @@
+"""Built-in robot descriptions (TOML), written from the seed chapter's tables."""
