@@ -7,6 +7,7 @@ failure or an interrupt leaves the committed files as they were.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shutil
 import sys
@@ -46,14 +47,29 @@ def derive_robot(robot: str | Path) -> tuple[str, dict[str, bytes]]:
     return desc.name, codegen.render(model.build(desc))
 
 
+def is_stale(robot: str | Path, out: Path) -> bool:
+    desc = load(robot)
+    try:
+        manifest = json.loads((out / desc.name / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return True
+    return manifest.get("input_hash") != codegen.input_hash(desc)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m derive", description=__doc__.splitlines()[0])
     ap.add_argument("robots", nargs="*", help="built-in names or TOML paths (default: all built in)")
     ap.add_argument("--out", type=Path, default=codegen.ROOT / "generated",
                     help="output folder (default: generated/)")
     ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    ap.add_argument("--if-stale", action="store_true",
+                    help="only robots whose manifest's input hash differs from the inputs")
     args = ap.parse_args(argv)
     robots = args.robots or builtin_robots()
+    if args.if_stale:
+        robots = [r for r in robots if is_stale(r, args.out)]
+        if not robots and not args.quiet:
+            print("generated/ is up to date", file=sys.stderr)
     rendered = []
     try:
         for r in robots:

@@ -1,0 +1,35 @@
+"""planar-sym: dynamics of planar robots, from data to compiled torques.
+
+>>> import planar_sym as ps
+>>> arm = ps.load("serial_2dof")
+>>> tau = arm.inverse_dynamics(q, qd, qdd)          # (N, 2) arrays in, one compiled call
+
+Runtime only: numpy, casadi-generated C via ctypes, SciPy and matplotlib on demand. SymPy is
+needed only to derive new equations (``derive/``).
+"""
+
+from __future__ import annotations
+
+from .dynamics import Robot, load
+from .errors import (DescriptionError, InputError, LibraryError, PlanarSymError,
+                     SimulationError, WorkspaceError)
+from .trajectory import Trajectory, cubic
+
+__all__ = ["Robot", "load", "cubic", "Trajectory", "simulate", "inverse_kinematics",
+           "run_scenario", "SCENARIOS", "DescriptionError", "InputError", "LibraryError",
+           "PlanarSymError", "SimulationError", "WorkspaceError"]
+__version__ = "0.1.0"
+
+_LAZY = {"simulate": ("simulate", "simulate"), "inverse_kinematics": ("kinematics",
+         "inverse_kinematics"), "run_scenario": ("scenarios", "run"),
+         "SCENARIOS": ("scenarios", "SCENARIOS")}
+
+
+def __getattr__(name: str):
+    # SciPy and the scenario tables load on first use, keeping `import planar_sym` light
+    if name in _LAZY:
+        import importlib
+
+        module, attr = _LAZY[name]
+        return getattr(importlib.import_module(f".{module}", __name__), attr)
+    raise AttributeError(f"module 'planar_sym' has no attribute {name!r}")

@@ -183,3 +183,26 @@ class Library:
                 f"{self.folder / 'manifest.json'} says {want[:16]}...: delete it and run "
                 "`make build` (or `make derive` if the generated sources are stale)")
         return lib
+
+
+class SingleCall:
+    """One sample through a batch function with pre-bound buffers: for integrator callbacks.
+
+    Outputs are views into reused buffers: copy them if you keep them.
+    """
+
+    def __init__(self, fn: BatchFunction, p: np.ndarray):
+        self._fn = fn._fn
+        self._ins = {name: (p.copy() if name == "p" else np.zeros(size))
+                     for name, size in fn.spec.inputs}
+        self._outs = [np.zeros(rows * cols) for _, rows, cols in fn.spec.outputs]
+        self._names = [name for name, _ in fn.spec.inputs if name != "p"]
+        self._args = (1, *[a.ctypes.data for a in self._ins.values()],
+                      *[o.ctypes.data for o in self._outs])
+
+    def __call__(self, *arrays: np.ndarray) -> list[np.ndarray]:
+        for name, a in zip(self._names, arrays):
+            self._ins[name][:] = a
+        if self._fn(*self._args):
+            raise LibraryError("generated function failed")
+        return self._outs

@@ -1,0 +1,145 @@
+"""The seed's closed-form inverse kinematics, with exact joint rates from the task Jacobian.
+
+Positions follow the seed's listings (elbow choice, ``th1 += 2 pi`` wrap, 2-DOF joint limits),
+but take every length from the robot's own parameter vector, so that forward kinematics of the
+solution returns the target to rounding. Rates are exact, never finite differences:
+
+.. code:: text
+
+    qd = J^-1 xd,    qdd = J^-1 (xdd - Jdot qd)
+
+Where the seed silently held its last solution outside the workspace, this raises
+WorkspaceError naming the time and the target.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .dynamics import Robot
+from .errors import WorkspaceError
+from .trajectory import Trajectory
+
+#: a joint angle within this of a limit (rad) counts as on it: the seed's start poses sit
+#: exactly on q1 = 0, where atan2 returns +-1e-17 and the seed's own check would flicker.
+ANGLE_TOL_RAD = 1e-9
+
+#: a task Jacobian whose condition number exceeds this is called singular: rates would blow up
+#: (at 1e6, a 1 mm/s task speed already needs joint rates of the order of km/s times the gain).
+COND_LIMIT = 1e6
+
+
+@dataclass(frozen=True)
+class JointTrajectory:
+    """Joint motion at times ``t_s``: q (rad), qd (rad/s), qdd (rad/s^2), each (N, n)."""
+
+    t_s: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+
+
+def _describe(robot: Robot, x: np.ndarray) -> str:
+    parts = []
+    for name, v in zip(robot.task_names, x):
+        parts.append(f"{name} = {v:.6g} rad" if name == "phi" else f"{name} = {v * 1e3:.6g} mm")
+    return "(" + ", ".join(parts) + ")"
+
+
+def _fail(robot: Robot, traj_t: np.ndarray, x: np.ndarray, bad: np.ndarray, why: str):
+    k = int(np.argmax(bad))
+    raise WorkspaceError(f"{robot.name}: target {_describe(robot, x[k])} at t = {traj_t[k]:.6g} s "
+                         f"(sample {k}) {why}")
+
+
+def _two_link(robot, t, x, px, py, a1, a2, elbow: float):
+    """Seed's 2-link solution: th2 = elbow * acos(kappa), th1 from atan2, wrapped to [0, 2 pi)."""
+    kappa = (px**2 + py**2 - a1**2 - a2**2) / (2 * a1 * a2)
+    out = np.abs(kappa) > 1
+    if out.any():
+        k = int(np.argmax(out))
+        _fail(robot, t, x, out, f"is outside the workspace (cos of the elbow angle would be "
+                                f"{kappa[k]:.6g}, beyond +-1)")
+    th2 = elbow * np.arccos(kappa)
+    delta = a1**2 + a2**2 + 2 * a1 * a2 * np.cos(th2)
+    c1 = (px * (a1 + a2 * np.cos(th2)) + py * a2 * np.sin(th2)) / delta
+    s1 = (-px * a2 * np.sin(th2) + py * (a1 + a2 * np.cos(th2))) / delta
+    th1 = np.arctan2(s1, c1)
+    th1 = np.where(th1 < -ANGLE_TOL_RAD, th1 + 2 * np.pi, th1)  # seed: 0 < th < 360
+    return th1, th2
+
+
+def _params(robot: Robot, *names: str) -> list[float]:
+    p = robot.parameters
+    return [p.get(n, 0.0) for n in names]
+
+
+def _check_on_axis(robot: Robot, *names: str) -> None:
+    off = [n for n in names if robot.parameters.get(n, 0.0) != 0.0]
+    if off:
+        raise WorkspaceError(f"{robot.name}: the seed's closed-form IK assumes joints and tool on "
+                             f"the link axes, but {', '.join(off)} are non-zero")
+
+
+def ik_serial_2dof(robot: Robot, t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Seed listing: elbow down (th2 = +acos), joint limits 0 <= th1 <= pi, pi/6 <= th2 <= 5pi/6."""
+    _check_on_axis(robot, "py_link1_CS2", "py_link2_CS2")
+    a1, a2 = _params(robot, "px_link1_CS2", "px_link2_CS2")
+    th1, th2 = _two_link(robot, t, x, x[:, 0], x[:, 1], a1, a2, +1.0)
+    tol = ANGLE_TOL_RAD
+    bad1 = (th1 < -tol) | (th1 > np.pi + tol)
+    if bad1.any():
+        _fail(robot, t, x, bad1, f"violates the joint limit 0 <= q1 <= 180 deg "
+                                 f"(q1 = {np.degrees(th1[np.argmax(bad1)]):.6g} deg)")
+    bad2 = (th2 < np.pi / 6 - tol) | (th2 > 5 * np.pi / 6 + tol)
+    if bad2.any():
+        _fail(robot, t, x, bad2, f"violates the joint limit 30 <= q2 <= 150 deg "
+                                 f"(q2 = {np.degrees(th2[np.argmax(bad2)]):.6g} deg)")
+    return np.column_stack([th1, th2])
+
+
+def ik_serial_3dof(robot: Robot, t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Seed listing: wrist p = x - a3 (cos phi, sin phi), elbow down, q3 = phi - q1 - q2.
+
+    The seed's listing is cut off after q1; ``q3 = phi - q1 - q2`` completes it.
+    """
+    _check_on_axis(robot, "py_link1_CS2", "py_link2_CS2", "py_link3_CS2")
+    a1, a2, a3 = _params(robot, "px_link1_CS2", "px_link2_CS2", "px_link3_CS2")
+    phi = x[:, 2]
+    px, py = x[:, 0] - a3 * np.cos(phi), x[:, 1] - a3 * np.sin(phi)
+    th1, th2 = _two_link(robot, t, x, px, py, a1, a2, +1.0)
+    return np.column_stack([th1, th2, phi - th1 - th2])
+
+
+IK_SOLVERS: dict[str, Callable[[Robot, np.ndarray, np.ndarray], np.ndarray]] = {
+    "serial_2dof": ik_serial_2dof,
+    "serial_3dof": ik_serial_3dof,
+}
+
+
+def solve_rates(robot: Robot, t: np.ndarray, x: np.ndarray, J: np.ndarray, rhs: np.ndarray):
+    """Solve J y = rhs per sample, refusing a singular pose by name and time."""
+    cond = np.linalg.cond(J)
+    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
+    if bad.any():
+        _fail(robot, t, x, bad, f"is at a singular pose (Jacobian condition number "
+                                f"{cond[np.argmax(bad)]:.3g} > {COND_LIMIT:g})")
+    return np.linalg.solve(J, rhs[..., None])[..., 0]
+
+
+def inverse_kinematics(robot: Robot, traj: Trajectory) -> JointTrajectory:
+    """Joint motion of a serial robot following a task trajectory (x in m, phi in rad)."""
+    solver = IK_SOLVERS.get(robot.name)
+    if solver is None:
+        raise WorkspaceError(f"no closed-form inverse kinematics for {robot.name}; built in for "
+                             f"{', '.join(IK_SOLVERS)}")
+    t, x = traj.t_s, traj.x
+    q = solver(robot, t, x)
+    _, J, _ = robot.task(q)
+    qd = solve_rates(robot, t, x, J, traj.xd)
+    _, _, jdot_qd = robot.task(q, qd)
+    qdd = solve_rates(robot, t, x, J, traj.xdd - jdot_qd)
+    return JointTrajectory(t, q, qd, qdd)

@@ -1,0 +1,66 @@
+"""Point-to-point cubic trajectories, exactly the seed's ``coeff_3rd`` with analytic derivatives.
+
+.. code:: text
+
+    c0 = x0,  c1 = v0,  c2 = (3 dx - (2 v0 + v1) T) / T^2,  c3 = (-2 dx + (v0 + v1) T) / T^3
+    x(t) = c0 + c1 t + c2 t^2 + c3 t^3,  xd = c1 + 2 c2 t + 3 c3 t^2,  xdd = 2 c2 + 6 c3 t
+
+with zero end velocities (v0 = v1 = 0) as in every seed scenario. The seed differentiated x(t)
+numerically with Simulink Derivative blocks; here xd and xdd are exact.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """Samples of a trajectory: ``x``, ``xd``, ``xdd`` of shape (N, channels) at times ``t_s``."""
+
+    t_s: np.ndarray
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+
+
+def coeff_3rd(sp, sv, ep, ev, tsec: float) -> np.ndarray:
+    """The seed's cubic coefficients, shape (channels, 4): c0 + c1 t + c2 t^2 + c3 t^3."""
+    if not np.isfinite(tsec) or tsec <= 0:
+        raise InputError(f"trajectory duration must be a positive number of seconds (got {tsec})")
+    sp, sv, ep, ev = (np.asarray(v, dtype=float).reshape(-1) for v in (sp, sv, ep, ev))
+    for name, v in (("start", sp), ("start velocity", sv), ("end", ep), ("end velocity", ev)):
+        if not np.all(np.isfinite(v)):
+            raise InputError(f"trajectory {name} must be finite (got {v.tolist()})")
+    c = np.empty((sp.size, 4))
+    c[:, 0] = sp
+    c[:, 1] = sv
+    c[:, 2] = (3.0 * (ep - sp) - (2.0 * sv + ev) * tsec) / (tsec * tsec)
+    c[:, 3] = (-2.0 * (ep - sp) + (sv + ev) * tsec) / (tsec * tsec * tsec)
+    return c
+
+
+def cubic(x0, dx, duration_s: float, t_s) -> Trajectory:
+    """Cubic from ``x0`` to ``x0 + dx`` over ``duration_s`` with zero end velocities, at ``t_s``."""
+    x0 = np.asarray(x0, dtype=float).reshape(-1)
+    dx = np.asarray(dx, dtype=float).reshape(-1)
+    if x0.shape != dx.shape:
+        raise InputError(f"x0 and dx must have the same length (got {x0.size} and {dx.size})")
+    c = coeff_3rd(x0, np.zeros_like(x0), x0 + dx, np.zeros_like(x0), duration_s)
+    t = np.asarray(t_s, dtype=float).reshape(-1)
+    if not np.all(np.isfinite(t)):
+        raise InputError("trajectory times must be finite")
+    outside = (t < 0) | (t > duration_s)
+    if outside.any():
+        k = int(np.argmax(outside))
+        raise InputError(f"time t = {t[k]} s (sample {k}) is outside the trajectory "
+                         f"[0, {duration_s}] s")
+    tt = t[:, None]
+    x = c[:, 0] + c[:, 1] * tt + c[:, 2] * tt**2 + c[:, 3] * tt**3
+    xd = c[:, 1] + 2 * c[:, 2] * tt + 3 * c[:, 3] * tt**2
+    xdd = 2 * c[:, 2] + 6 * c[:, 3] * tt
+    return Trajectory(t, x, xd, xdd)
