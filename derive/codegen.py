@@ -111,6 +111,10 @@ def functions(model: Model) -> list[Generated]:
             fn("constraint_bias", [("q", q), ("qd", qd), ("p", p)],
                [("gamma", tr.matrix(con.accel_bias))],
                "acceleration term gamma = -(Phi_q qd)_q qd, so Phi_q qdd = gamma"),
+            fn("constrained_terms", [("q", q), ("qd", qd), ("p", p)],
+               [("M", M), ("h", h), ("phi_q", tr.matrix(con.jacobian)),
+                ("gamma", tr.matrix(con.accel_bias))],
+               "M, h, Phi_q and gamma in one call: everything a KKT solve needs"),
         ]
     return out
 

@@ -20,7 +20,7 @@ __all__ = ["Robot", "load", "cubic", "Trajectory", "simulate", "inverse_kinemati
            "PlanarSymError", "SimulationError", "WorkspaceError"]
 __version__ = "0.1.0"
 
-_LAZY = {"simulate": ("simulate", "simulate"), "inverse_kinematics": ("kinematics",
+_LAZY = {"simulate": ("simulation", "simulate"), "inverse_kinematics": ("kinematics",
          "inverse_kinematics"), "run_scenario": ("scenarios", "run"),
          "SCENARIOS": ("scenarios", "SCENARIOS")}
 

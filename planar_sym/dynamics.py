@@ -57,6 +57,7 @@ class Robot:
         self.task_names: tuple[str, ...] = tuple(m["task"])
         self.body_names: tuple[str, ...] = tuple(m["bodies"])
         self.n_constraints: int = m["constraints"]
+        self.loops: tuple[str, ...] = tuple(m["loops"])
         self.q_drawn = np.array(m["q_drawn"])
         self.parameter_list = tuple(Parameter(**p) for p in m["parameters"])
         p = np.array([x.value for x in self.parameter_list]) if parameters is None else parameters
@@ -131,10 +132,21 @@ class Robot:
                              "(torques and loop reaction forces together)")
         return self.tree_inverse_dynamics(q, qd, qdd)
 
+    def closed_chain_inverse_dynamics(self, q, qd, qdd, t=None) -> tuple[np.ndarray, np.ndarray]:
+        """Actuated torques (N, actuated) in N*m and cut-joint forces lambda (N, 2 * loops) in N.
+
+        q, qd, qdd: every coordinate, consistent with the loops (from inverse_kinematics or
+        closed_chain.from_actuated). Convention: M qdd + h = S^T tau + Phi_q^T lambda.
+        """
+        from .closed_chain import inverse_dynamics
+
+        return inverse_dynamics(self, q, qd, qdd, t)
+
     def forward_dynamics(self, q, qd, tau) -> np.ndarray:
         """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2."""
         if self.is_closed_chain:
-            raise InputError(f"{self.name} is a closed chain: use planar_sym.simulate")
+            raise InputError(f"{self.name} is a closed chain: use planar_sym.simulate, which "
+                             "keeps the loop constraints")
         r, s = self._call("forward_dynamics", q=q, qd=qd, tau=tau)
         return self._out(r["qdd"], s)
 

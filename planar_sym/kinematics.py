@@ -55,20 +55,22 @@ def _fail(robot: Robot, traj_t: np.ndarray, x: np.ndarray, bad: np.ndarray, why:
                          f"(sample {k}) {why}")
 
 
-def _two_link(robot, t, x, px, py, a1, a2, elbow: float):
-    """Seed's 2-link solution: th2 = elbow * acos(kappa), th1 from atan2, wrapped to [0, 2 pi)."""
+def _two_link(robot, t, x, px, py, a1, a2, elbow: float, wrap: bool = True, what: str = ""):
+    """Seed's 2-link solution: th2 = elbow * acos(kappa), th1 from atan2 (wrapped to
+    [0, 2 pi) as the serial listings do when ``wrap``)."""
     kappa = (px**2 + py**2 - a1**2 - a2**2) / (2 * a1 * a2)
     out = np.abs(kappa) > 1
     if out.any():
         k = int(np.argmax(out))
-        _fail(robot, t, x, out, f"is outside the workspace (cos of the elbow angle would be "
-                                f"{kappa[k]:.6g}, beyond +-1)")
+        _fail(robot, t, x, out, f"is outside the workspace ({what + ': ' if what else ''}cos "
+                                f"of the elbow angle would be {kappa[k]:.6g}, beyond +-1)")
     th2 = elbow * np.arccos(kappa)
     delta = a1**2 + a2**2 + 2 * a1 * a2 * np.cos(th2)
     c1 = (px * (a1 + a2 * np.cos(th2)) + py * a2 * np.sin(th2)) / delta
     s1 = (-px * a2 * np.sin(th2) + py * (a1 + a2 * np.cos(th2))) / delta
     th1 = np.arctan2(s1, c1)
-    th1 = np.where(th1 < -ANGLE_TOL_RAD, th1 + 2 * np.pi, th1)  # seed: 0 < th < 360
+    if wrap:
+        th1 = np.where(th1 < -ANGLE_TOL_RAD, th1 + 2 * np.pi, th1)  # seed: 0 < th < 360
     return th1, th2
 
 
@@ -131,15 +133,31 @@ def solve_rates(robot: Robot, t: np.ndarray, x: np.ndarray, J: np.ndarray, rhs: 
 
 
 def inverse_kinematics(robot: Robot, traj: Trajectory) -> JointTrajectory:
-    """Joint motion of a serial robot following a task trajectory (x in m, phi in rad)."""
-    solver = IK_SOLVERS.get(robot.name)
+    """Joint motion (every coordinate, passive ones too) following a task trajectory.
+
+    traj.x in m (and rad for phi). Rates come from the task Jacobian stacked, for a closed
+    chain, on the constraint Jacobian:
+
+    .. code:: text
+
+        [Phi_q; J] qd = [0; xd],    [Phi_q; J] qdd = [gamma; xdd - Jdot qd]
+    """
+    from .closed_ik import CLOSED_IK_SOLVERS
+
+    solver = IK_SOLVERS.get(robot.name) or CLOSED_IK_SOLVERS.get(robot.name)
     if solver is None:
         raise WorkspaceError(f"no closed-form inverse kinematics for {robot.name}; built in for "
-                             f"{', '.join(IK_SOLVERS)}")
+                             f"{', '.join([*IK_SOLVERS, *CLOSED_IK_SOLVERS])}")
     t, x = traj.t_s, traj.x
     q = solver(robot, t, x)
+    N = len(t)
     _, J, _ = robot.task(q)
-    qd = solve_rates(robot, t, x, J, traj.xd)
+    J = J.reshape(N, len(robot.task_names), robot.n)
+    zeros = np.zeros((N, robot.n_constraints))
+    if robot.is_closed_chain:
+        J = np.concatenate([robot.constraint_jacobian(q).reshape(N, -1, robot.n), J], axis=1)
+    qd = solve_rates(robot, t, x, J, np.concatenate([zeros, traj.xd], axis=1))
     _, _, jdot_qd = robot.task(q, qd)
-    qdd = solve_rates(robot, t, x, J, traj.xdd - jdot_qd)
+    gamma = robot.constraint_bias(q, qd).reshape(N, -1) if robot.is_closed_chain else zeros
+    qdd = solve_rates(robot, t, x, J, np.concatenate([gamma, traj.xdd - jdot_qd], axis=1))
     return JointTrajectory(t, q, qd, qdd)

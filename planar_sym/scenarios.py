@@ -43,6 +43,17 @@ SCENARIOS: dict[str, Scenario] = {s.name: s for s in [
              "S4: 3-DOF arm, tool from (100, 120) mm, phi = pi/2, by -200 mm in x in 5 s "
              "(seed Fig. 25)",
              x0=(100.0, 120.0, np.pi / 2), dx=(-200.0, 0.0, 0.0), duration_s=5.0),
+    *[Scenario(f"{robot}_move_{axis}", robot, "task",
+               f"{tag}: {label}, end-effector P from ({x0[0]:g}, {x0[1]:g}) mm by +50 mm in "
+               f"{axis} in 2 s ({fig})", x0=x0, dx=dx, duration_s=2.0)
+      for robot, tag, label, fig, x0 in [
+          ("five_bar_type1", "S5", "5-bar Type I", "seed Fig. 2.29", (60.852, 154.665)),
+          ("five_bar_type2", "S6", "5-bar Type II", "seed Fig. 32", (100.0, 128.0))]
+      for axis, dx in (("x", (50.0, 0.0)), ("y", (0.0, 50.0)))],
+    *[Scenario(f"parallel_3rrr_move_{axis}", "parallel_3rrr", "task",
+               f"S7: 3-RRR parallel robot, platform centre from (0, 0) mm by +50 mm in {axis} "
+               "in 2 s, phi = 0 (seed Fig. 35)", x0=(0.0, 0.0, 0.0), dx=dx, duration_s=2.0)
+      for axis, dx in (("x", (50.0, 0.0, 0.0)), ("y", (0.0, 50.0, 0.0)))],
 ]}
 
 DEFAULT_SAMPLES = {"forward": 1001, "joint": 201, "task": 201}
@@ -89,15 +100,33 @@ def run(name: str, samples: int | None = None) -> Result:
     if sc.kind == "forward":
         return _forward(sc, robot, t)
     jt, x = joint_motion(sc, robot, t)
-    tau = robot.inverse_dynamics(jt.q, jt.qd, jt.qdd)
     cols = {"t": t, **task_columns(robot, x)}
+    if robot.is_closed_chain:
+        return _closed(sc, robot, jt, cols)
+    tau = robot.inverse_dynamics(jt.q, jt.qd, jt.qdd)
     cols.update({f"q{i + 1}": jt.q[:, i] for i in range(robot.n)})
     cols.update({f"tau{i + 1}": tau[:, i] for i in range(robot.n)})
     return Result(sc.name, sc.summary, cols, plot="torques")
 
 
+def _closed(sc: Scenario, robot: Robot, jt: JointTrajectory, cols: dict) -> Result:
+    """Actuated angles (the seed's absolute angles, rad), torques, then the cut-joint forces."""
+    tau, lam = robot.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd, t=jt.t_s)
+    for k, i in enumerate(robot.actuated):
+        cols[f"q{k + 1}"] = jt.q[:, i]
+    for k in range(len(robot.actuated)):
+        cols[f"tau{k + 1}"] = tau[:, k]
+    for k, loop in enumerate(robot.loops):
+        cols[f"fx_{loop}_n"] = lam[:, 2 * k]
+        cols[f"fy_{loop}_n"] = lam[:, 2 * k + 1]
+    drift = float(np.max(np.abs(robot.constraint(jt.q))))
+    note = (f"actuated joints {', '.join(robot.coordinates[i] for i in robot.actuated)}; "
+            f"loop residual max |Phi| = {drift:.1e} m; f*: force on the cut joint's parent body")
+    return Result(sc.name, sc.summary, cols, plot="torques", note=note)
+
+
 def _forward(sc: Scenario, robot: Robot, t: np.ndarray) -> Result:
-    from .simulate import simulate
+    from .simulation import simulate
 
     sim = simulate(robot, np.radians(sc.x0), np.zeros(robot.n), (0.0, sc.duration_s), t_eval=t)
     cols = {"t": t}
