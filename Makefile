@@ -4,7 +4,10 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: venv derive derive-check build test test-fast demo bench lint clean
+.PHONY: help venv derive derive-check build test test-fast demo bench lint clean
+
+help:  ## this list
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/'
 
 venv: $(STAMP)  ## virtual environment with the package (editable), derive and test extras
 
