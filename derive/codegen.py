@@ -25,7 +25,10 @@ ROOT = Path(__file__).resolve().parent.parent
 #: sources whose change can change the generated files: they are part of the input hash
 HASHED_SOURCES = ("planar_sym/description.py", "planar_sym/units.py")
 
-_UNITS = {"q": "rad", "qd": "rad/s", "qdd": "rad/s^2", "tau": "N*m or N (per coordinate)"}
+#: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
+#: a 1-joint robot's 1x1 mass matrix must still come back as a matrix
+OUTPUT_KIND = {"kinetic": "scalar", "potential": "scalar", "M": "matrix", "J": "matrix",
+               "phi_q": "matrix", "frames": "matrix", "dqdd_dq": "matrix", "dqdd_dqd": "matrix"}
 
 
 @dataclass(frozen=True)
@@ -72,8 +75,11 @@ def functions(model: Model) -> list[Generated]:
     M, h, g = tr.matrix(lag.mass_matrix), tr.matrix(lag.bias), tr.matrix(lag.gravity)
 
     def fn(quantity, ins, outs, doc):
-        f = ca.Function(f"{name}_{quantity}", [v for _, v in ins], [v for _, v in outs],
-                        [k for k, _ in ins], [k for k, _ in outs])
+        # densify: CasADi drops structural zeros (e.g. dqdd/dq of a gravity-free arm), but the
+        # runtime and the C batch layout read every output as a dense column-major block
+        f = ca.Function(f"{name}_{quantity}", [v for _, v in ins],
+                        [ca.densify(v) for _, v in outs], [k for k, _ in ins],
+                        [k for k, _ in outs])
         return Generated(quantity, f, doc)
 
     out = [
@@ -221,8 +227,8 @@ def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> 
             "symbol": f.name(),
             "doc": g.doc,
             "inputs": [[f.name_in(i), f.size1_in(i) * f.size2_in(i)] for i in range(f.n_in())],
-            "outputs": [[f.name_out(i), f.size1_out(i), f.size2_out(i)]
-                        for i in range(f.n_out())],
+            "outputs": [[f.name_out(i), f.size1_out(i), f.size2_out(i),
+                         OUTPUT_KIND.get(f.name_out(i), "vector")] for i in range(f.n_out())],
         }
     data = {
         "robot": desc.name,

@@ -218,17 +218,26 @@ class _Validator:
         gravity = self._vec(d, "gravity", "gravity", scale.get("acceleration"))
         ground = self._ground(d.get("ground"), scale)
         bodies = {GROUND: ground} if ground else {}
-        for i, raw in enumerate(self._list(d, "bodies")):
+        # bodies with their own errors are still declared: joints naming them say nothing more
+        raw_bodies = self._list(d, "bodies")
+        self.declared = {GROUND} | {b.get("name") for b in raw_bodies
+                                    if isinstance(b.get("name"), str)}
+        duplicate = False
+        for i, raw in enumerate(raw_bodies):
             body = self._body(i, raw, scale)
             if body is None:
                 continue
             if body.name in bodies:
                 self.err(f"bodies[{i}].name", f"duplicate body name {body.name!r}")
+                duplicate = True
+                continue
             bodies[body.name] = body
         joints = [j for i, raw in enumerate(self._list(d, "joints"))
                   if (j := self._joint(i, raw, bodies)) is not None]
+        before = len(self.problems)
         tree, loops = self._tree(joints, bodies)
-        self._closure(joints, bodies)
+        if not duplicate and len(self.problems) == before:
+            self._closure(joints, bodies)
         task = self._task(d.get("task"), bodies)
         display = d.get("symbols", {})
         if not isinstance(display, dict) or not all(isinstance(v, str) for v in display.values()):
@@ -357,7 +366,7 @@ class _Validator:
             self.err(f"{f}.frame", f"must be [origin] or [origin, x_toward], naming its points "
                                    f"{sorted(pts)} (got {frame!r})")
             return None
-        if None in (name, mass, izz, cg_from) or not pts or length is None:
+        if None in (name, mass, izz, cg_from, length, mass_u, inertia_u) or not pts:
             return None
         origin = pts[frame[0]]
         angle = 0.0
@@ -408,6 +417,8 @@ class _Validator:
         if ref is None:
             return None
         body, _, point = ref.partition(".")
+        if body not in bodies and body in getattr(self, "declared", ()):
+            return None  # the body's own problems are reported already
         if body not in bodies:
             self.err(f"{f}.{key}", f"unknown body {body!r} (known: {', '.join(bodies)})")
         elif point not in bodies[body].points_m:
@@ -441,7 +452,7 @@ class _Validator:
             placed.add(ready.child)
             pending.remove(ready)
         unplaced = sorted(set(bodies) - placed)
-        if unplaced and not any(len(v) > 1 for v in into.values()):
+        if unplaced and not any(len(v) > 1 for v in into.values()) and not self.problems:
             self.err("joints", f"bodies {unplaced} are not connected to ground by a chain of "
                                "joints (the kinematic graph is disconnected)")
         if not [j for j in tree if j.type == "revolute"] and not self.problems:

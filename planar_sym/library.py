@@ -109,7 +109,7 @@ def build(folder: Path, manifest: dict, force: bool = False) -> Path:
 class FunctionSpec:
     symbol: str
     inputs: tuple[tuple[str, int], ...]
-    outputs: tuple[tuple[str, int, int], ...]
+    outputs: tuple[tuple[str, int, int, str], ...]  # name, rows, cols, scalar|vector|matrix
 
 
 class BatchFunction:
@@ -133,18 +133,18 @@ class BatchFunction:
                                    f"{a.dtype}, expected {expected} float64 contiguous")
             ptrs.append(a.ctypes.data)
         outs = {}
-        for name, rows, cols in self.spec.outputs:
+        for name, rows, cols, _ in self.spec.outputs:
             outs[name] = np.empty((n, rows * cols))
             ptrs.append(outs[name].ctypes.data)
         status = self._fn(n, *ptrs)
         if status:
             raise LibraryError(f"{self.spec.symbol} failed at sample {status - 1}")
         shaped = {}
-        for name, rows, cols in self.spec.outputs:
+        for name, rows, cols, kind in self.spec.outputs:
             a = outs[name]
-            if rows == 1 and cols == 1:
+            if kind == "scalar":
                 shaped[name] = a[:, 0]
-            elif cols == 1:
+            elif kind == "vector":
                 shaped[name] = a
             else:  # CasADi matrices are column-major
                 shaped[name] = a.reshape(n, cols, rows).transpose(0, 2, 1)
@@ -195,7 +195,7 @@ class SingleCall:
         self._fn = fn._fn
         self._ins = {name: (p.copy() if name == "p" else np.zeros(size))
                      for name, size in fn.spec.inputs}
-        self._outs = [np.zeros(rows * cols) for _, rows, cols in fn.spec.outputs]
+        self._outs = [np.zeros(rows * cols) for _, rows, cols, _ in fn.spec.outputs]
         self._names = [name for name, _ in fn.spec.inputs if name != "p"]
         self._args = (1, *[a.ctypes.data for a in self._ins.values()],
                       *[o.ctypes.data for o in self._outs])

@@ -1,0 +1,99 @@
+"""Shared helpers of the test suite.
+
+Error measure used everywhere (``rel_err``): for each sample k, the largest absolute difference
+over all entries of that sample divided by the largest absolute entry of the reference at that
+sample, ``max_k ||a_k - b_k||_inf / ||b_k||_inf`` (a ``floor`` keeps an all-zero reference from
+dividing by zero; it then becomes an absolute error).
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+GENERATED = ROOT / "generated"
+ROBOTS_DIR = ROOT / "planar_sym" / "robots"
+TEST_ROBOTS = Path(__file__).resolve().parent / "robots"
+
+TREES = ("serial_2dof", "serial_3dof")
+CLOSED = ("five_bar_type1", "five_bar_type2", "parallel_3rrr")
+ALL_ROBOTS = TREES + CLOSED
+
+
+def rel_err(actual, reference, floor: float = 1e-300) -> float:
+    """Worst per-sample normwise relative error; arrays shaped (N, ...) or (N,)."""
+    a = np.asarray(actual, dtype=float)
+    b = np.asarray(reference, dtype=float)
+    assert a.shape == b.shape, f"shape {a.shape} != reference shape {b.shape}"
+    a = a.reshape(a.shape[0], -1)
+    b = b.reshape(b.shape[0], -1)
+    diff = np.max(np.abs(a - b), axis=1)
+    scale = np.maximum(np.max(np.abs(b), axis=1), floor)
+    return float(np.max(diff / scale))
+
+
+def random_states(rng: np.random.Generator, n_samples: int, n: int):
+    """q uniform in [-pi, pi], qd and qdd (or tau) uniform in [-3, 3]."""
+    q = rng.uniform(-np.pi, np.pi, (n_samples, n))
+    qd = rng.uniform(-3, 3, (n_samples, n))
+    qdd = rng.uniform(-3, 3, (n_samples, n))
+    return q, qd, qdd
+
+
+@pytest.fixture
+def rng() -> np.random.Generator:
+    return np.random.default_rng(20240611)
+
+
+@pytest.fixture(scope="session")
+def worst_errors():
+    """Records the worst relative error per comparison; printed at the end with -s."""
+    table: dict[str, float] = {}
+    yield table
+    if table:
+        width = max(map(len, table))
+        print("\nworst relative errors:")
+        for k, v in sorted(table.items()):
+            print(f"  {k:<{width}}  {v:.3e}")
+
+
+def record(table: dict[str, float], key: str, value: float) -> float:
+    table[key] = max(table.get(key, 0.0), value)
+    return value
+
+
+def copy_builtin(tmp_path: Path, robot: str, name: str | None = None) -> Path:
+    """A copy of a built-in description in tmp_path (to be edited by a test)."""
+    dst = tmp_path / f"{name or robot}.toml"
+    shutil.copyfile(ROBOTS_DIR / f"{robot}.toml", dst)
+    return dst
+
+
+@pytest.fixture(scope="session")
+def derived(tmp_path_factory):
+    """``derived(toml_path) -> (folder, Robot)``: derive a test robot into a tmp folder and load
+    it, compiled into a session tmp cache (test robots stay out of the user's cache)."""
+    from derive.__main__ import main as derive_main  # needs SymPy: only for tests that use it
+    from planar_sym.dynamics import Robot
+    from planar_sym.library import Library
+
+    out = tmp_path_factory.mktemp("derived")
+    cache = tmp_path_factory.mktemp("cache")
+    done: dict[Path, tuple[Path, object]] = {}
+
+    def get(toml: Path):
+        toml = Path(toml)
+        if toml not in done:
+            assert derive_main([str(toml), "--out", str(out), "--quiet"]) == 0
+            name = toml.stem
+            with pytest.MonkeyPatch.context() as mp:
+                mp.setenv("PLANAR_SYM_CACHE", str(cache))
+                robot = Robot(name, Library(name, folder=out / name))
+            done[toml] = (out / name, robot)
+        return done[toml]
+
+    return get
