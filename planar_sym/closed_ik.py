@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .dynamics import Robot
-from .kinematics import _fail, _two_link
+from .kinematics import Failures, _two_link
 
 
 def _nearest(q: np.ndarray, ref: np.ndarray) -> np.ndarray:
@@ -36,11 +36,13 @@ def _five_bar(robot: Robot, t, x, left_elbow: float) -> np.ndarray:
     l36 = p["px_L_Link2_CS3"]  # |BP|: L_Link2's frame points from B at P
     cb = (p.get("px_L_Link2_CS2", 0.0) - l36, p.get("py_L_Link2_CS2", 0.0))  # C - P, body frame
     l5, l4 = p["px_R_Link1_CS2"], p["px_R_Link2_CS2"]
-    th2, th3 = _two_link(robot, t, x, x[:, 0] - ax, x[:, 1] - ay, l2, l36, left_elbow,
-                         wrap=False)
+    fails = Failures(robot, t, x)
+    th2, th3 = _two_link(fails, x[:, 0] - ax, x[:, 1] - ay, l2, l36, left_elbow, wrap=False,
+                         what="left arm")
     dx, dy = _rot(th2 + th3, cb)
     cx, cy = x[:, 0] + dx - ex, x[:, 1] + dy - ey
-    th5, th4 = _two_link(robot, t, x, cx, cy, l5, l4, +1.0, wrap=False, what="right arm")
+    th5, th4 = _two_link(fails, cx, cy, l5, l4, +1.0, wrap=False, what="right arm")
+    fails.raise_earliest()
     return _nearest(np.column_stack([th2, th3, th5, th4]), robot.q_drawn)
 
 
@@ -61,7 +63,8 @@ def ik_parallel_3rrr(robot: Robot, t, x) -> np.ndarray:
     """
     p = robot.parameters
     phi = x[:, 2]
-    cols, distal1 = [], None
+    cols = []
+    fails = Failures(robot, t, x)
     for i in (1, 2, 3):
         a = (p.get(f"px_ground_A{i}", 0.0), p.get(f"py_ground_A{i}", 0.0))
         b = (p.get(f"px_platform_CS{i}", 0.0), p.get(f"py_platform_CS{i}", 0.0))
@@ -70,17 +73,15 @@ def ik_parallel_3rrr(robot: Robot, t, x) -> np.ndarray:
         dx, dy = x[:, 0] + bx - a[0], x[:, 1] + by - a[1]
         e1, e2, e3 = -2 * l1 * dy, -2 * l1 * dx, dx**2 + dy**2 + l1**2 - l2**2
         disc = e1**2 + e2**2 - e3**2
-        out = disc < 0
-        if out.any():
-            _fail(robot, t, x, out, f"is outside the workspace (leg {i} cannot reach: "
-                                    f"e1^2 + e2^2 - e3^2 = {disc[np.argmax(out)]:.3g} < 0)")
-        th = 2 * np.arctan((-e1 - np.sqrt(disc)) / (e3 - e2))
+        fails.add(disc < 0, lambda k, i=i, disc=disc: (
+            f"is outside the workspace (leg {i} cannot reach: e1^2 + e2^2 - e3^2 = "
+            f"{disc[k]:.3g} < 0)"))
+        th = 2 * np.arctan((-e1 - np.sqrt(np.maximum(disc, 0.0))) / (e3 - e2))
         psi = np.arctan2(dy - l1 * np.sin(th), dx - l1 * np.cos(th))  # distal link angle
         cols += [th, psi - th]
         if i == 1:
             cols.append(phi - psi)
-            distal1 = psi
-    del distal1
+    fails.raise_earliest()
     return _nearest(np.column_stack(cols), robot.q_drawn)
 
 

@@ -27,8 +27,9 @@ from .trajectory import Trajectory
 #: exactly on q1 = 0, where atan2 returns +-1e-17 and the seed's own check would flicker.
 ANGLE_TOL_RAD = 1e-9
 
-#: a task Jacobian whose condition number exceeds this is called singular: rates would blow up
-#: (at 1e6, a 1 mm/s task speed already needs joint rates of the order of km/s times the gain).
+#: a Jacobian whose condition number exceeds this is called singular. Near a singularity the
+#: condition number grows like 1 / distance, and joint rates and torques with it: at 1e6 they
+#: are already about a million times their size at a well-conditioned pose.
 COND_LIMIT = 1e6
 
 
@@ -49,22 +50,35 @@ def _describe(robot: Robot, x: np.ndarray) -> str:
     return "(" + ", ".join(parts) + ")"
 
 
-def _fail(robot: Robot, traj_t: np.ndarray, x: np.ndarray, bad: np.ndarray, why: str):
-    k = int(np.argmax(bad))
-    raise WorkspaceError(f"{robot.name}: target {_describe(robot, x[k])} at t = {traj_t[k]:.6g} s "
-                         f"(sample {k}) {why}")
+class Failures:
+    """Collects failing samples of every IK check, then reports the earliest of them all."""
+
+    def __init__(self, robot: Robot, t: np.ndarray, x: np.ndarray):
+        self.robot, self.t, self.x = robot, t, x
+        self.found: list[tuple[int, str]] = []
+
+    def add(self, bad: np.ndarray, why: Callable[[int], str]) -> None:
+        if bad.any():
+            k = int(np.argmax(bad))
+            self.found.append((k, why(k)))
+
+    def raise_earliest(self) -> None:
+        if self.found:
+            k, why = min(self.found, key=lambda f: f[0])
+            raise WorkspaceError(f"{self.robot.name}: target {_describe(self.robot, self.x[k])} "
+                                 f"at t = {self.t[k]:.6g} s (sample {k}) {why}")
 
 
-def _two_link(robot, t, x, px, py, a1, a2, elbow: float, wrap: bool = True, what: str = ""):
+def _two_link(fails: Failures, px, py, a1, a2, elbow: float, wrap: bool = True,
+              what: str = ""):
     """Seed's 2-link solution: th2 = elbow * acos(kappa), th1 from atan2 (wrapped to
-    [0, 2 pi) as the serial listings do when ``wrap``)."""
+    [0, 2 pi) as the serial listings do when ``wrap``). Unreachable samples are recorded in
+    ``fails`` and computed with kappa clipped (as the seed does) so later checks still run."""
     kappa = (px**2 + py**2 - a1**2 - a2**2) / (2 * a1 * a2)
-    out = np.abs(kappa) > 1
-    if out.any():
-        k = int(np.argmax(out))
-        _fail(robot, t, x, out, f"is outside the workspace ({what + ': ' if what else ''}cos "
-                                f"of the elbow angle would be {kappa[k]:.6g}, beyond +-1)")
-    th2 = elbow * np.arccos(kappa)
+    fails.add(np.abs(kappa) > 1, lambda k: f"is outside the workspace ({what + ': ' if what else ''}"
+                                           f"cos of the elbow angle would be {kappa[k]:.6g}, "
+                                           "beyond +-1)")
+    th2 = elbow * np.arccos(np.clip(kappa, -1.0, 1.0))
     delta = a1**2 + a2**2 + 2 * a1 * a2 * np.cos(th2)
     c1 = (px * (a1 + a2 * np.cos(th2)) + py * a2 * np.sin(th2)) / delta
     s1 = (-px * a2 * np.sin(th2) + py * (a1 + a2 * np.cos(th2))) / delta
@@ -90,16 +104,16 @@ def ik_serial_2dof(robot: Robot, t: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Seed listing: elbow down (th2 = +acos), joint limits 0 <= th1 <= pi, pi/6 <= th2 <= 5pi/6."""
     _check_on_axis(robot, "py_link1_CS2", "py_link2_CS2")
     a1, a2 = _params(robot, "px_link1_CS2", "px_link2_CS2")
-    th1, th2 = _two_link(robot, t, x, x[:, 0], x[:, 1], a1, a2, +1.0)
+    fails = Failures(robot, t, x)
+    th1, th2 = _two_link(fails, x[:, 0], x[:, 1], a1, a2, +1.0)
     tol = ANGLE_TOL_RAD
-    bad1 = (th1 < -tol) | (th1 > np.pi + tol)
-    if bad1.any():
-        _fail(robot, t, x, bad1, f"violates the joint limit 0 <= q1 <= 180 deg "
-                                 f"(q1 = {np.degrees(th1[np.argmax(bad1)]):.6g} deg)")
-    bad2 = (th2 < np.pi / 6 - tol) | (th2 > 5 * np.pi / 6 + tol)
-    if bad2.any():
-        _fail(robot, t, x, bad2, f"violates the joint limit 30 <= q2 <= 150 deg "
-                                 f"(q2 = {np.degrees(th2[np.argmax(bad2)]):.6g} deg)")
+    fails.add((th1 < -tol) | (th1 > np.pi + tol),
+              lambda k: f"violates the joint limit 0 <= q1 <= 180 deg "
+                        f"(q1 = {np.degrees(th1[k]):.6g} deg)")
+    fails.add((th2 < np.pi / 6 - tol) | (th2 > 5 * np.pi / 6 + tol),
+              lambda k: f"violates the joint limit 30 <= q2 <= 150 deg "
+                        f"(q2 = {np.degrees(th2[k]):.6g} deg)")
+    fails.raise_earliest()
     return np.column_stack([th1, th2])
 
 
@@ -112,7 +126,9 @@ def ik_serial_3dof(robot: Robot, t: np.ndarray, x: np.ndarray) -> np.ndarray:
     a1, a2, a3 = _params(robot, "px_link1_CS2", "px_link2_CS2", "px_link3_CS2")
     phi = x[:, 2]
     px, py = x[:, 0] - a3 * np.cos(phi), x[:, 1] - a3 * np.sin(phi)
-    th1, th2 = _two_link(robot, t, x, px, py, a1, a2, +1.0)
+    fails = Failures(robot, t, x)
+    th1, th2 = _two_link(fails, px, py, a1, a2, +1.0)
+    fails.raise_earliest()
     return np.column_stack([th1, th2, phi - th1 - th2])
 
 
@@ -125,10 +141,11 @@ IK_SOLVERS: dict[str, Callable[[Robot, np.ndarray, np.ndarray], np.ndarray]] = {
 def solve_rates(robot: Robot, t: np.ndarray, x: np.ndarray, J: np.ndarray, rhs: np.ndarray):
     """Solve J y = rhs per sample, refusing a singular pose by name and time."""
     cond = np.linalg.cond(J)
-    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
-    if bad.any():
-        _fail(robot, t, x, bad, f"is at a singular pose (Jacobian condition number "
-                                f"{cond[np.argmax(bad)]:.3g} > {COND_LIMIT:g})")
+    fails = Failures(robot, t, x)
+    fails.add(~np.isfinite(cond) | (cond > COND_LIMIT),
+              lambda k: f"is at a singular pose (Jacobian condition number {cond[k]:.3g} > "
+                        f"{COND_LIMIT:g})")
+    fails.raise_earliest()
     return np.linalg.solve(J, rhs[..., None])[..., 0]
 
 
