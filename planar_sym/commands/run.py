@@ -1,0 +1,37 @@
+"""``planar-sym run``: scenarios into CSV and PNG files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import PlanarSymError
+
+
+def register(sub) -> None:
+    p = sub.add_parser("run", help="run scenarios, write SCENARIO.csv and SCENARIO.png")
+    p.add_argument("scenarios", nargs="*", help="scenario names (see `list`)")
+    p.add_argument("--all", action="store_true", help="run every scenario")
+    p.add_argument("--out", type=Path, default=Path("results"), help="output folder")
+    p.add_argument("--samples", type=int, default=None,
+                   help="evenly spaced samples (default 201 inverse, 1001 forward dynamics)")
+    p.set_defaults(fn=run)
+
+
+def run(args) -> int:
+    from ..results import write
+    from ..scenarios import SCENARIOS, get
+    from ..scenarios import run as run_scenario
+
+    names = list(SCENARIOS) if args.all else args.scenarios
+    if not names:
+        raise PlanarSymError("name at least one scenario, or --all (see `planar-sym list`)")
+    for name in names:
+        get(name)  # every name checked before anything runs
+    for name in names:
+        result = run_scenario(name, args.samples)
+        paths = write(result, args.out)
+        if not args.quiet:
+            peaks = ", ".join(f"{k} {v:.4g}" for k, v in result.peak("tau").items())
+            extra = f" (peak |tau| N*m: {peaks})" if peaks else f" ({result.note})"
+            print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}")
+    return 0
