@@ -32,6 +32,9 @@ def main(argv: list[str] | None = None) -> int:
     except PlanarSymError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # disk full, permissions: say which file, no traceback
+        print(f"error: {exc.strerror or exc} ({exc.filename or 'file system'})", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

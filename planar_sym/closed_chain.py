@@ -113,7 +113,8 @@ def inverse_dynamics(robot: Robot, q, qd, qdd, t=None) -> tuple[np.ndarray, np.n
     Returns tau (N, actuated) and lambda (N, 2 * loops: x, y per cut joint).
     """
     act, _ = partition(robot)
-    q = as_samples("q", q, robot.n, times=t)
+    q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
+                                                                   ("qdd", qdd)))
     b = robot.tree_inverse_dynamics(q, qd, qdd).reshape(len(q), robot.n)
     jac = robot.constraint_jacobian(q).reshape(len(q), robot.n_constraints, robot.n)
     a = np.zeros((len(q), robot.n, robot.n))
