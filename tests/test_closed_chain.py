@@ -31,6 +31,8 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from pinocchio_model import pinocchio_model
+from pinocchio_model import xyz as _xyz
 
 from planar_sym import closed_chain, description
 from planar_sym.description import GROUND
@@ -63,15 +65,6 @@ def rel(actual, reference, whole: bool = False) -> float:
     return float(np.max(np.max(np.abs(a - b), axis=1) / np.max(np.abs(b), axis=1)))
 
 
-def _xyz(xy) -> np.ndarray:
-    return np.array([xy[0], xy[1], 0.0])
-
-
-def _rotz(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
 def _rot2(a: float) -> np.ndarray:
     c, s = math.cos(a), math.sin(a)
     return np.array([[c, -s], [s, c]])
@@ -83,23 +76,7 @@ class PinTree:
     angle minus parent frame angle), welded bodies appended to their parent's joint."""
 
     def __init__(self, desc: description.Description):
-        model = pin.Model()
-        model.gravity = pin.Motion(_xyz(desc.gravity_m_s2), np.zeros(3))
-        where = {GROUND: (0, pin.SE3.Identity())}
-        for j in desc.tree_joints:
-            parent, child = desc.bodies[j.parent], desc.bodies[j.child]
-            pid, parent_pl = where[j.parent]
-            at = parent_pl * pin.SE3(np.eye(3), _xyz(parent.points_m[j.parent_point]))
-            to_child = pin.SE3(np.eye(3), -_xyz(child.points_m[j.child_point]))
-            if j.type == "revolute":
-                jid, body_pl = model.addJoint(pid, pin.JointModelRZ(), at, j.name), to_child
-            else:
-                rel_angle = child.drawn_angle_rad - parent.drawn_angle_rad
-                jid, body_pl = pid, at * pin.SE3(_rotz(rel_angle), np.zeros(3)) * to_child
-            inertia = pin.Inertia(child.mass_kg, _xyz(child.cg_m),
-                                  np.diag([0.0, 0.0, child.izz_kg_m2]))
-            model.appendBodyToJoint(jid, inertia, body_pl)
-            where[j.child] = (jid, body_pl)
+        model, where = pinocchio_model(desc)
 
         def point_frame(label, body, point):
             jid, pl = where[body]
