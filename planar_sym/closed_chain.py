@@ -152,12 +152,13 @@ def project(robot: Robot, q, qd) -> tuple[np.ndarray, np.ndarray]:
 
 
 def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
-                    rtol: float = 1e-11, atol: float = 1e-12, method: str = "DOP853",
+                    rtol: float = 1e-11, atol: float = 1e-12, method: str = "dopri5",
                     segment_s: float = 0.1):
     """Forward dynamics of a closed chain, on the constraint manifold.
 
-    Method (index reduction with projection): the full state (q, qd) is integrated with the
-    accelerations of the index-1 system
+    Method (index reduction with projection): the full state (q, qd) is integrated (the C
+    Dormand-Prince 5(4) by default, or a SciPy method) with the accelerations of the index-1
+    system
 
     .. code:: text
 
@@ -171,7 +172,7 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     """
     from scipy.integrate import solve_ivp
 
-    from .simulation import Simulation, time_grid, torque_function
+    from .simulation import Simulation, dopri5, time_grid, torque_function
 
     act, _ = partition(robot)
     n, m = robot.n, robot.n_constraints
@@ -195,19 +196,30 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
         rhs_v[n:] = gamma
         return np.concatenate([x[n:], np.linalg.solve(kkt, rhs_v)[:n]])
 
+    use_c = method == "dopri5" and not callable(torque)
+    if method == "dopri5" and callable(torque):
+        method = "DOP853"
+    fn = robot.library.address("constrained_terms") if use_c else 0
     qs, qds = [q.copy()], [qd.copy()]
     k = 0
     while k < len(t) - 1:
         end = int(np.searchsorted(t, t[k] + segment_s, side="right")) - 1
         end = min(max(end, k + 1), len(t) - 1)
-        sol = solve_ivp(rhs, (t[k], t[end]), np.concatenate([q, qd]), method=method,
-                        t_eval=t[k:end + 1], rtol=rtol, atol=atol)
-        if not sol.success:
-            raise SimulationError(f"{robot.name}: integration failed at t = {sol.t[-1]:.6g} s: "
-                                  f"{sol.message}")
-        qs += list(sol.y[:n, 1:].T)
-        qds += list(sol.y[n:, 1:].T)
-        q, qd = project(robot, sol.y[:n, -1], sol.y[n:, -1])
+        if use_c:
+            y, n_rhs = dopri5(robot, 1, fn, np.concatenate([q, qd]), t[k:end + 1],
+                              tau_of(t[k]), rtol, atol, 10_000_000, act)
+            count[0] += n_rhs
+            ys = y.T
+        else:
+            sol = solve_ivp(rhs, (t[k], t[end]), np.concatenate([q, qd]), method=method,
+                            t_eval=t[k:end + 1], rtol=rtol, atol=atol)
+            if not sol.success:
+                raise SimulationError(f"{robot.name}: integration failed at t = "
+                                      f"{sol.t[-1]:.6g} s: {sol.message}")
+            ys = sol.y
+        qs += list(ys[:n, 1:].T)
+        qds += list(ys[n:, 1:].T)
+        q, qd = project(robot, ys[:n, -1], ys[n:, -1])
         k = end
     qa, qda = np.array(qs), np.array(qds)
     drift = float(np.max(np.abs(robot.constraint(qa))))

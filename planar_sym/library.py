@@ -14,6 +14,7 @@ import fcntl
 import hashlib
 import json
 import os
+import platform
 import shutil
 import subprocess
 import tempfile
@@ -75,34 +76,111 @@ def _compiler() -> str:
     return cc
 
 
-def library_path(folder: Path, manifest: dict) -> Path:
-    key = hashlib.sha256(" ".join(CFLAGS).encode()).hexdigest()[:8]
-    return cache_dir() / f"{manifest['robot']}-{manifest['input_hash'][:16]}-{key}.so"
+#: the sample loops (derive/simd.py) are compiled for this machine's vector units with fast
+#: math, which lets gcc call glibc's vector sin/cos. Linking happens without -ffast-math: gcc 12
+#: would otherwise link crtfastmath.o into the library and switch the whole process to
+#: flush-to-zero on load.
+SIMD_CFLAGS = ("-O3", "-march=native", "-ffast-math", "-fPIC", "-std=c99")
 
 
-def build(folder: Path, manifest: dict, force: bool = False) -> Path:
-    """Compile ``<robot>.c`` into the cache unless a library for this hash is there already."""
-    target = library_path(folder, manifest)
+def _machine_key() -> str:
+    """Identifies the CPU a -march=native build is for (a shared cache may see several)."""
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+        lines = [ln for ln in info.splitlines() if ln.startswith(("model name", "flags"))][:2]
+    except OSError:
+        lines = []
+    return hashlib.sha256("\n".join([platform.machine(), *lines]).encode()).hexdigest()[:8]
+
+
+def library_path(folder: Path, manifest: dict, flavour: str = "exact") -> Path:
+    flags = CFLAGS if flavour == "exact" else SIMD_CFLAGS + (_machine_key(),)
+    key = hashlib.sha256(" ".join(flags).encode()).hexdigest()[:8]
+    suffix = "" if flavour == "exact" else f"-{flavour}"
+    return cache_dir() / f"{manifest['robot']}-{manifest['input_hash'][:16]}-{key}{suffix}.so"
+
+
+def compile_shared(sources: list[Path], target: Path, cflags, extra: tuple = (),
+                   link_flags: tuple = ("-lm",), force: bool = False) -> Path:
+    """Compile ``sources`` into the shared library ``target``: locked, renamed into place.
+
+    Concurrent builders of the same target wait on the lock and then reuse the result, so no
+    process ever loads a half-written library.
+    """
     if target.exists() and not force:
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
     with open(target.with_suffix(".lock"), "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)  # one builder at a time; the others wait, then reuse
+        fcntl.flock(lock, fcntl.LOCK_EX)
         if target.exists() and not force:
             return target
-        fd, tmp = tempfile.mkstemp(suffix=".so", dir=target.parent)
-        os.close(fd)
-        src = folder / f"{manifest['robot']}.c"
-        cmd = [_compiler(), *CFLAGS, "-o", tmp, str(src), "-lm"]
-        try:
-            proc = subprocess.run(cmd, capture_output=True, text=True)
-            if proc.returncode != 0:
-                raise LibraryError(f"compiling {src} failed ({' '.join(cmd)}):\n{proc.stderr}")
-            os.replace(tmp, target)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+        with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
+            objs = []
+            for src in sources:
+                obj = Path(tmp) / (src.stem + ".o")
+                _run([_compiler(), *[f for f in cflags if f != "-shared"], *extra, "-c",
+                      "-o", str(obj), str(src)], src)
+                objs.append(str(obj))
+            out = Path(tmp) / target.name
+            _run([_compiler(), "-shared", "-o", str(out), *objs, *link_flags], sources[0])
+            os.replace(out, target)
     return target
+
+
+def _run(cmd: list[str], src: Path) -> None:
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise LibraryError(f"compiling {src} failed ({' '.join(cmd)}):\n{proc.stderr}")
+
+
+def build(folder: Path, manifest: dict, force: bool = False) -> Path:
+    """Compile ``<robot>.c`` (exact: -O3, no fast math) unless this hash is built already."""
+    return compile_shared([folder / f"{manifest['robot']}.c"], library_path(folder, manifest),
+                          CFLAGS, force=force)
+
+
+def build_simd(folder: Path, manifest: dict, force: bool = False) -> Path | None:
+    """Compile ``<robot>_simd.c`` (the vectorised sample loops), if the robot has one."""
+    src = folder / f"{manifest['robot']}_simd.c"
+    if not src.exists():
+        return None
+    return compile_shared([src], library_path(folder, manifest, "simd"), SIMD_CFLAGS,
+                          force=force)
+
+
+_FASTCALL = None
+
+
+def fastcall():
+    """The C extension that calls sample loops from Python (None where it cannot be built)."""
+    global _FASTCALL
+    if _FASTCALL is None:
+        _FASTCALL = _build_fastcall() or False
+    return _FASTCALL or None
+
+
+def _build_fastcall():
+    import importlib.machinery
+    import importlib.util
+    import sysconfig
+
+    src = _DIR / "_fastcall.c"
+    try:
+        import numpy
+
+        tag = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
+        key = hashlib.sha256(src.read_bytes() + numpy.__version__.encode()).hexdigest()[:12]
+        target = cache_dir() / f"_fastcall-{key}{tag}"
+        includes = ("-I" + sysconfig.get_paths()["include"], "-I" + numpy.get_include())
+        # no fast math here: the finiteness check must see NaN
+        compile_shared([src], target, ("-O2", "-fPIC", "-std=c99"), extra=includes,
+                       link_flags=())
+        spec = importlib.util.spec_from_file_location("planar_sym._fastcall", target)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+    except (LibraryError, OSError, ImportError):
+        return None  # no Python headers or compiler: the ctypes path still works
 
 
 @dataclass(frozen=True)
@@ -167,6 +245,11 @@ class Library:
                 f["symbol"], tuple(map(tuple, f["inputs"])), tuple(map(tuple, f["outputs"]))))
             for q, f in self.manifest["functions"].items()}
 
+    def address(self, quantity: str) -> int:
+        """Address of ``<robot>_<quantity>_batch`` in the exact library (for C callers)."""
+        symbol = self.manifest["functions"][quantity]["symbol"] + "_batch"
+        return ctypes.cast(getattr(self.lib, symbol), ctypes.c_void_p).value
+
     def _load(self, path: Path) -> ctypes.CDLL:
         robot, want = self.manifest["robot"], self.manifest["input_hash"]
         try:
@@ -206,3 +289,24 @@ class SingleCall:
         if self._fn(*self._args):
             raise LibraryError("generated function failed")
         return self._outs
+
+
+_INTEGRATOR = None
+
+
+def integrator():
+    """``planar_sym_dopri5`` from _integrate.c (compiled once per source hash), via ctypes."""
+    global _INTEGRATOR
+    if _INTEGRATOR is None:
+        src = _DIR / "_integrate.c"
+        key = hashlib.sha256(src.read_bytes() + " ".join(CFLAGS).encode()).hexdigest()[:12]
+        lib = ctypes.CDLL(str(compile_shared([src], cache_dir() / f"_integrate-{key}.so",
+                                             CFLAGS)))
+        fn = lib.planar_sym_dopri5
+        ptr = ctypes.c_void_p
+        fn.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int, ptr, ptr, ptr,
+                       ptr, ctypes.c_double, ptr, ctypes.c_int, ptr, ctypes.c_double,
+                       ctypes.c_double, ctypes.c_longlong, ptr, ptr, ptr]
+        fn.restype = ctypes.c_int
+        _INTEGRATOR = fn
+    return _INTEGRATOR

@@ -1,8 +1,15 @@
 """Forward dynamics: integrate M(q) qdd + h(q, qd) = tau with error control.
 
-Serial (tree) robots: SciPy's ``solve_ivp`` (DOP853 by default; Radau/BDF get the compiled
-Jacobian of the right-hand side) on the compiled ``qdd = M^-1 (tau - h)``, dense output at the
-requested times. Closed chains are in ``planar_sym.closed_chain``.
+Methods:
+
+* ``"dopri5"`` (default): adaptive Dormand-Prince 5(4) written in C (planar_sym/_integrate.c),
+  calling the compiled forward dynamics with no Python per step; steps land exactly on the
+  requested output times. For zero or constant torques.
+* any SciPy ``solve_ivp`` method (``"DOP853"``, ``"RK45"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``)
+  on the compiled ``qdd = M^-1 (tau - h)``; Radau/BDF/LSODA get the compiled Jacobian. A torque
+  that is a function of time always goes this way (DOP853 unless told otherwise).
+
+Closed chains are in ``planar_sym.closed_chain``.
 """
 
 from __future__ import annotations
@@ -15,7 +22,7 @@ from scipy.integrate import solve_ivp
 
 from .dynamics import Robot, as_samples
 from .errors import InputError, SimulationError
-from .library import SingleCall
+from .library import SingleCall, integrator
 
 Torque = None | float | np.ndarray | Callable[[float], np.ndarray]
 
@@ -81,9 +88,11 @@ def time_grid(t_span: tuple[float, float], t_eval) -> np.ndarray:
 
 def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torque = None,
              t_eval=None, rtol: float = 1e-11, atol: float = 1e-12,
-             method: str = "DOP853") -> Simulation:
-    """Integrate a serial robot from (q0 rad, qd0 rad/s) over ``t_span`` (s) under ``torque``.
+             method: str = "dopri5", max_steps: int = 10_000_000) -> Simulation:
+    """Integrate a robot from (q0 rad, qd0 rad/s) over ``t_span`` (s) under ``torque`` (N*m).
 
+    ``torque``: None (zero), a constant (n,) vector, or a function of time returning (n,);
+    for a closed chain, torques of the actuated joints and ``q0`` the full coordinates.
     Returns the state at ``t_eval`` (default: 1001 evenly spaced times), with energies.
     """
     if robot.is_closed_chain:
@@ -94,6 +103,14 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     x0 = np.concatenate([as_samples("q0", q0, n)[0], as_samples("qd0", qd0, n)[0]])
     t = time_grid(t_span, t_eval)
     tau_of = torque_function(torque, n)
+    if method == "dopri5" and not callable(torque):
+        fd = robot.library.address("forward_dynamics")
+        y, n_rhs = dopri5(robot, 0, fd, x0, t, tau_of(t[0]), rtol, atol, max_steps)
+        q, qd = y[:, :n].copy(), y[:, n:].copy()
+        kin, pot = robot.energy(q, qd)
+        return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
+                          rtol, atol, n_rhs)
+    method = "DOP853" if method == "dopri5" else method
     fd = SingleCall(robot.library.functions["forward_dynamics"], robot.p)
     count = [0]
 
@@ -122,3 +139,38 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     kin, pot = robot.energy(q, qd)
     taus = np.array([tau_of(tt) for tt in t])
     return Simulation(t, q, qd, taus, kin, pot, method, rtol, atol, count[0])
+
+
+_DOPRI5_ERRORS = {1: "the right-hand side failed (singular mass or KKT matrix?)",
+                  2: "the step size fell below 1e-14 s: the problem is stiff or singular here",
+                  3: "too many steps (raise max_steps or loosen the tolerances)",
+                  4: "the robot is too large for the built-in integrator (32 coordinates)"}
+
+
+def dopri5(robot: Robot, kind: int, fn: int, y0: np.ndarray, t: np.ndarray, tau: np.ndarray,
+           rtol: float, atol: float, max_steps: int, act: np.ndarray | None = None):
+    """The C integrator: states (len(t), 2n) at ``t`` and the number of RHS evaluations.
+
+    kind 0: tree (``fn`` = forward_dynamics batch); kind 1: closed chain (``fn`` =
+    constrained_terms batch, ``tau`` on the actuated coordinates ``act``).
+    """
+    import ctypes
+
+    if not (rtol > 0 and atol > 0):
+        raise InputError(f"tolerances must be positive (rtol {rtol}, atol {atol})")
+    n, m = robot.n, robot.n_constraints if kind == 1 else 0
+    y0 = np.ascontiguousarray(y0, dtype=float)
+    t = np.ascontiguousarray(t, dtype=float)
+    tau = np.ascontiguousarray(tau, dtype=float)
+    act_arr = np.ascontiguousarray(act if act is not None else [], dtype=np.intc)
+    out = np.empty((len(t), 2 * n))
+    stats = np.zeros(3, dtype=np.int64)
+    t_fail = ctypes.c_double()
+    rc = integrator()(kind, n, m, len(act_arr), act_arr.ctypes.data, tau.ctypes.data,
+                      robot.p.ctypes.data, fn, float(t[0]), y0.ctypes.data, len(t),
+                      t.ctypes.data, rtol, atol, max_steps, out.ctypes.data, stats.ctypes.data,
+                      ctypes.byref(t_fail))
+    if rc:
+        raise SimulationError(f"{robot.name}: integration failed at t = {t_fail.value:.6g} s: "
+                              f"{_DOPRI5_ERRORS.get(rc, rc)}")
+    return out, int(stats[0])
