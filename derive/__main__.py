@@ -17,6 +17,7 @@ from pathlib import Path
 
 from planar_sym.description import builtin_robots, load
 from planar_sym.errors import DescriptionError
+from planar_sym.progress import Progress
 
 from . import codegen, model
 
@@ -71,8 +72,12 @@ def main(argv: list[str] | None = None) -> int:
         if not robots and not args.quiet:
             print("generated/ is up to date", file=sys.stderr)
     rendered = []
+    # "[k/N] deriving X ..." before each robot, on a terminal only (the lines below stay as
+    # they were: they report what was done, after it is done)
+    progress = Progress(len(robots), quiet=args.quiet)
     try:
         for r in robots:
+            progress.step(f"deriving {r}")
             t0 = time.perf_counter()
             rendered.append(derive_robot(r))
             if not args.quiet:

@@ -16,13 +16,13 @@ from .errors import (DescriptionError, InputError, LibraryError, PlanarSymError,
 from .trajectory import Trajectory, cubic
 
 __all__ = ["Robot", "load", "cubic", "Trajectory", "simulate", "inverse_kinematics",
-           "run_scenario", "SCENARIOS", "DescriptionError", "InputError", "LibraryError",
+           "run_scenario", "SCENARIOS", "validate", "DescriptionError", "InputError", "LibraryError",
            "PlanarSymError", "SimulationError", "WorkspaceError"]
 __version__ = "0.1.0"
 
 _LAZY = {"simulate": ("simulation", "simulate"), "inverse_kinematics": ("kinematics",
          "inverse_kinematics"), "run_scenario": ("scenarios", "run"),
-         "SCENARIOS": ("scenarios", "SCENARIOS")}
+         "SCENARIOS": ("scenarios", "SCENARIOS"), "validate": ("validate", "run_all")}
 
 
 def __getattr__(name: str):

@@ -366,7 +366,8 @@ class _Validator:
             self.err(f"{f}.frame", f"must be [origin] or [origin, x_toward], naming its points "
                                    f"{sorted(pts)} (got {frame!r})")
             return None
-        if None in (name, mass, izz, cg_from, length, mass_u, inertia_u) or not pts:
+        if (None in (name, mass, izz, cg_from, length, mass_u, inertia_u) or not pts
+                or (cg_from != "world" and cg_from not in pts)):
             return None
         origin = pts[frame[0]]
         angle = 0.0

@@ -94,10 +94,18 @@ def _machine_key() -> str:
 
 
 def library_path(folder: Path, manifest: dict, flavour: str = "exact") -> Path:
+    """Cache path keyed by robot, input hash, the C source's own hash and the flags.
+
+    The source hash matters for hand-made folders: C edited (and re-hashed in the manifest)
+    under an unchanged input hash must not reuse the library built from the old C.
+    """
+    robot = manifest["robot"]
+    source = f"{robot}.c" if flavour == "exact" else f"{robot}_{flavour}.c"
     flags = CFLAGS if flavour == "exact" else SIMD_CFLAGS + (_machine_key(),)
-    key = hashlib.sha256(" ".join(flags).encode()).hexdigest()[:8]
+    key = hashlib.sha256(" ".join([*flags, manifest.get("files", {}).get(source, "")])
+                         .encode()).hexdigest()[:8]
     suffix = "" if flavour == "exact" else f"-{flavour}"
-    return cache_dir() / f"{manifest['robot']}-{manifest['input_hash'][:16]}-{key}{suffix}.so"
+    return cache_dir() / f"{robot}-{manifest['input_hash'][:16]}-{key}{suffix}.so"
 
 
 def compile_shared(sources: list[Path], target: Path, cflags, extra: tuple = (),

@@ -5,16 +5,25 @@ from __future__ import annotations
 
 def register(sub) -> None:
     p = sub.add_parser("build", help="compile the generated C of robots into the cache")
-    p.add_argument("robots", nargs="*", help="robot names (default: every built-in robot)")
+    p.add_argument("robots", nargs="*",
+                   help="robot names or generated folders DIR/<name> (default: every built-in "
+                        "robot)")
     p.set_defaults(fn=run)
 
 
 def run(args) -> int:
     from ..description import builtin_robots
+    from ..dynamics import locate
     from ..library import Library
+    from ..progress import Progress
 
-    for robot in args.robots or builtin_robots():
-        lib = Library(robot)
+    robots = args.robots or builtin_robots()
+    progress = Progress(len(robots), quiet=args.quiet)
+    for robot in robots:
+        progress.step(f"compiling {robot}")  # a robot takes a second or more with cc -O3
+        name, folder = locate(robot)
+        lib = Library(name, folder)
         if not args.quiet:
             print(f"{robot}: {lib.path}")
+    progress.done()
     return 0

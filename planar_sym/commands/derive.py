@@ -1,0 +1,107 @@
+"""``planar-sym derive ROBOT.toml [...] --out DIR``: your own robot, from description to library.
+
+Every description is validated first and every problem of every file is reported at once;
+then nothing is written (exit code 2). Otherwise each robot is derived in memory (SymPy),
+written atomically to ``DIR/<name>/`` (the generated C, header, manifest, equations, plus a copy
+of the description as ``description.toml`` so the folder is self-contained, e.g. for
+``planar-sym validate``; not for built-in robots, whose folders stay exactly what ``make derive``
+writes), and compiled into the cache. Load it with
+``planar_sym.load("DIR/<name>")``.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..errors import DescriptionError, PlanarSymError
+
+NEEDS_SYMPY = "deriving needs SymPy: pip install planar-sym[derive]"
+
+#: the copy of the description written next to the generated files
+DESCRIPTION_COPY = "description.toml"
+
+
+def register(sub) -> None:
+    p = sub.add_parser("derive", help="derive, generate and compile robots from TOML descriptions")
+    p.add_argument("robots", nargs="+", metavar="ROBOT",
+                   help="description files (path/to/robot.toml) or built-in robot names")
+    p.add_argument("--out", type=Path, required=True,
+                   help="output folder; each robot goes to OUT/<name>/")
+    p.add_argument("--no-build", action="store_true", help="write the C, do not compile it")
+    p.set_defaults(fn=run)
+
+
+def derive_modules():
+    """The build-time ``derive`` package, imported only now: the runtime never needs SymPy."""
+    try:
+        import sympy  # noqa: F401  (checked first: derive may be imported already in-process)
+    except ImportError:
+        raise PlanarSymError(NEEDS_SYMPY) from None
+    try:
+        import derive.__main__ as derive_main
+    except ModuleNotFoundError as exc:
+        if exc.name != "derive":
+            raise PlanarSymError(f"deriving needs {exc.name!r}, which is missing ({exc})") from None
+        derive_main = _from_source_checkout()
+    return derive_main
+
+
+def _from_source_checkout():
+    # an editable install maps only the planar_sym package; derive/ sits beside it in a checkout
+    root = Path(__file__).resolve().parents[2]
+    if not (root / "derive" / "__init__.py").is_file():
+        raise PlanarSymError("deriving needs the build-time `derive` package, which is not "
+                             "installed: run from a source checkout of planar-sym")
+    sys.path.insert(0, str(root))
+    import derive.__main__ as derive_main
+
+    return derive_main
+
+
+def validate_all(robots: list[str]) -> list:
+    """Every description, validated; one DescriptionError listing every problem of every file."""
+    from ..description import load
+
+    descs, problems = [], []
+    for robot in robots:
+        try:
+            descs.append(load(robot))
+        except DescriptionError as exc:
+            problems += exc.problems
+    names = [d.name for d in descs]
+    for name in sorted({n for n in names if names.count(n) > 1}):
+        files = ", ".join(str(d.path) for d in descs if d.name == name)
+        problems.append(f"{files}: name: {name!r} is used by several descriptions")
+    if problems:
+        raise DescriptionError(problems)
+    return descs
+
+
+def run(args) -> int:
+    from ..description import robots_dir
+    from ..library import Library
+    from ..progress import Progress
+
+    derive_main = derive_modules()
+    descs = validate_all(args.robots)  # raises before anything is derived or written
+    progress = Progress(len(descs) * (1 if args.no_build else 2), quiet=args.quiet)
+    rendered = []
+    for desc in descs:
+        progress.step(f"deriving {desc.name} ({desc.path})")
+        name, files = derive_main.derive_robot(desc.path)
+        if desc.path.resolve().parent != robots_dir():  # a built-in comes out as `make derive`
+            files = {**files, DESCRIPTION_COPY: desc.path.read_bytes()}
+        rendered.append((name, files))
+    for name, files in rendered:
+        folder = args.out / name
+        derive_main.write_atomically(files, folder)
+        if args.no_build:
+            message = f"{name}: wrote {folder}/"
+        else:
+            progress.step(f"compiling {name}")
+            message = f"{name}: wrote {folder}/, compiled {Library(name, folder).path}"
+        if not args.quiet:
+            print(f"{message}\n  load it with planar_sym.load({str(folder)!r})")
+    progress.done()
+    return 0

@@ -1,0 +1,328 @@
+"""A compiled robot cross-checked against independent routes: each check returns table rows.
+
+(a) every output of every compiled function against the SymPy model it was generated from
+    (needs SymPy and the description file);
+(b) a second route to the dynamics that never uses the symbolic M and h: Lagrange's equations
+    by finite differences of the compiled *energy*, ``tau = d/dt dL/dqd - dL/dq``; for closed
+    chains also the multiplier solve against the null-space projection ``G^T (M qdd + h)``;
+(c) energy conservation of free motion (``simulate``, zero torque, from the drawn pose);
+(d) power balance along a trajectory: ``sum tau_i qd_i = dE/dt``;
+(e) closed chains: the loop residual, and the passive rates against differences of q(t).
+
+Relative errors are normwise: at random states per sample, ``max_k ||a_k - b_k||_inf /
+||b_k||_inf``; along a motion relative to the peak, ``max_k ||a_k - b_k|| / max_k ||b_k||``.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .dynamics import Robot
+from .errors import PlanarSymError
+
+#: 4th-order central differences: f'(0) ~ sum c f(k s) / s, f''(0) ~ sum c f(k s) / s^2.
+#: Truncation ~ s^4 f^(5), rounding ~ eps f / s: s = 1e-3 keeps both near 1e-12 relative.
+D1 = {-2: 1 / 12, -1: -8 / 12, 1: 8 / 12, 2: -1 / 12}
+D2 = {-2: -1 / 12, -1: 16 / 12, 0: -30 / 12, 1: 16 / 12, 2: -1 / 12}
+STEP = 1e-3  # rad for q, s for time
+
+TOL_SYMBOLIC = 1e-11  # same expressions, different evaluation order: rounding only
+TOL_ROUTE = 1e-7  # finite differences of the energy: ~1e-10 measured, kept well above
+TOL_ENERGY = 1e-8  # relative energy drift over the free motion (integrator rtol 1e-11)
+TOL_POWER = 1e-6  # finite differences in time of E along a smooth motion
+TOL_PHI_M = 1e-9  # loop residual, m (Newton stops at 1e-13 m)
+TOL_RATES = 1e-6  # passive qd, qdd against differences of the Newton-solved q(t)
+
+
+@dataclass(frozen=True)
+class Row:
+    check: str
+    worst: float | None  # the worst figure; None when skipped
+    tolerance: float | None
+    status: str  # "pass", "FAIL" or "skipped"
+    detail: str = ""
+
+
+def row(check: str, worst: float, tol: float, detail: str = "") -> Row:
+    ok = math.isfinite(worst) and worst <= tol
+    return Row(check, worst, tol, "pass" if ok else "FAIL", detail)
+
+
+def rel_err(a, b, peak: bool = False) -> float:
+    """Worst per-sample ``||a_k - b_k|| / ||b_k||`` (random states), or relative to the largest
+    ``||b_k||`` (``peak``: along a motion, where every rate passes through zero together)."""
+    a = np.asarray(a, dtype=float).reshape(len(a), -1)
+    b = np.asarray(b, dtype=float).reshape(len(b), -1)
+    diff, scale = np.max(np.abs(a - b), axis=1), np.max(np.abs(b), axis=1)
+    if scale.max() == 0.0:  # an all-zero reference (no gravity, say): absolute
+        return float(diff.max())
+    floor = 1.0 if peak else 1e-12  # a (near) zero sample is measured against the largest
+    return float(np.max(diff / np.maximum(scale, floor * scale.max())))
+
+
+def random_states(robot: Robot, samples: int, seed: int):
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(-np.pi, np.pi, (samples, robot.n))
+    qd, qdd, tau = (rng.uniform(-3, 3, (samples, robot.n)) for _ in range(3))
+    return q, qd, qdd, tau
+
+
+# -- (a) SymPy ----------------------------------------------------------------------------------
+def find_description(robot: Robot, given: Path | None = None) -> Path | None:
+    """The description: given, else the copy ``planar-sym derive`` writes, else the manifest's."""
+    from .description import resolve, robots_dir
+
+    folder, manifest = robot.library.folder, robot.library.manifest
+    root = Path(__file__).resolve().parent.parent  # manifest inputs are relative to the repo
+    for path in (given, folder / "description.toml", root / manifest.get("input", "-"),
+                 robots_dir() / f"{robot.name}.toml"):
+        if path is not None and path.is_file():
+            return resolve(path)
+    return None
+
+
+def check_symbolic(robot: Robot, description: Path | None = None, samples: int = 20,
+                   seed: int = 1) -> Row:
+    name = f"(a) compiled vs SymPy, {samples} random states"
+    try:
+        import sympy  # noqa: F401  (explicitly: derive may already be imported)
+    except ImportError:
+        return Row(name, None, TOL_SYMBOLIC, "skipped", "skipped: needs SymPy")
+    path = find_description(robot, description)
+    if path is None:
+        return Row(name, None, TOL_SYMBOLIC, "skipped",
+                   "skipped: no description file found (pass --description)")
+    from . import description as descriptions
+    from .commands.derive import derive_modules
+
+    derive_modules()  # the build-time package, found in a source checkout too
+    from derive.model import build
+
+    model = build(descriptions.load(path))
+    if [str(s) for s in model.sym.p] != [p.name for p in robot.parameter_list]:
+        return Row(name, math.inf, TOL_SYMBOLIC, "FAIL", f"{path}: parameter vector differs")
+    states = dict(zip(("q", "qd", "qdd", "tau"), random_states(robot, samples, seed)))
+    refs = _sympy_reference(model, robot.p, states)
+    errs = {f"{quantity}.{out}": rel_err(value, refs[out])
+            for quantity, fn in robot.library.functions.items()
+            for out, value in fn(samples, {k: (robot.p if k == "p" else states[k])
+                                           for k, _ in fn.spec.inputs}).items()}
+    where = _worst(errs)
+    return row(name, errs[where], TOL_SYMBOLIC, f"worst: {where}; from {path}")
+
+
+def _worst(errs: dict[str, float]) -> str:
+    """The key of the largest error, NaN counting as the largest."""
+    return max(errs, key=lambda k: errs[k] if errs[k] == errs[k] else math.inf)
+
+
+def _sympy_reference(model, p, states) -> dict[str, np.ndarray]:
+    """Every output name evaluated from the SymPy expressions, sample by sample."""
+    import sympy as sp
+
+    s, lag, con = model.sym, model.lagrangian, model.constraints
+    M, h = lag.mass_matrix, lag.bias
+    exprs = {"M": M, "h": h, "g": lag.gravity, "tau": M * sp.Matrix(s.qdd) + h,
+             "kinetic": sp.Matrix([lag.kinetic]), "potential": sp.Matrix([lag.potential]),
+             "x": model.task, "J": model.task_jacobian, "jdot_qd": model.task_jdot_qd,
+             "frames": model.frames, "phi": con.phi, "phi_q": con.jacobian,
+             "gamma": con.accel_bias, "dh_dq": h.jacobian(s.q), "dh_dqd": h.jacobian(s.qd),
+             "dM": sp.Matrix.hstack(*[M.diff(qk) for qk in s.q])}
+    keys = list(exprs)
+    fn = sp.lambdify([*s.q, *s.qd, *s.qdd, *s.tau, *s.p], [exprs[k] for k in keys], "numpy")
+    out: dict[str, list] = {k: [] for k in [*keys, "qdd", "dqdd_dq", "dqdd_dqd"]}
+    n = len(s.q)
+    for k in range(len(states["q"])):
+        vals = fn(*(v for key in ("q", "qd", "qdd", "tau") for v in states[key][k]), *p)
+        r = {key: np.array(v, dtype=float) for key, v in zip(keys, vals)}
+        acc = np.linalg.solve(r["M"], states["tau"][k] - r["h"].ravel())
+        dm = np.column_stack([r["dM"][:, i * n:(i + 1) * n] @ acc for i in range(n)])
+        r.update(qdd=acc, dqdd_dq=np.linalg.solve(r["M"], -dm - r["dh_dq"]),
+                 dqdd_dqd=-np.linalg.solve(r["M"], r["dh_dqd"]))
+        for key, v in r.items():
+            out[key].append(v)
+    return {k: np.array(v) for k, v in out.items()}
+
+
+# -- (b) Lagrange from the energy ---------------------------------------------------------------
+def _diff(f, x: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """d/ds f(x + s direction) at s = 0, 4th-order central differences, batched over samples."""
+    return sum(c * f(x + k * STEP * direction) for k, c in D1.items()) / STEP
+
+
+def mass_from_energy(robot: Robot, q: np.ndarray) -> np.ndarray:
+    """M(q) from the kinetic energy alone: T = qd^T M qd / 2, so by polarisation at unit rates
+    M_ii = 2 T(e_i) and M_ij = T(e_i + e_j) - T(e_i) - T(e_j); exact up to rounding."""
+    n, eye = robot.n, np.eye(robot.n)
+    t_of = {(i, j): robot.energy(q, np.broadcast_to(eye[i] + eye[j] * (i != j), q.shape))[0]
+            for i in range(n) for j in range(i, n)}
+    M = np.empty((len(q), n, n))
+    for (i, j), t in t_of.items():
+        M[:, i, j] = M[:, j, i] = 2 * t if i == j else t - t_of[i, i] - t_of[j, j]
+    return M
+
+
+def lagrange_from_energy(robot: Robot, q, qd, qdd) -> dict[str, np.ndarray]:
+    """M, g = dV/dq, h and tau = d/dt dL/dqd - dL/dq, from the compiled energy function."""
+    eye = np.eye(robot.n)
+    M = mass_from_energy(robot, q)
+    dT = np.column_stack([_diff(lambda x: robot.energy(x, qd)[0], q, e) for e in eye])
+    dV = np.column_stack([_diff(lambda x: robot.energy(x, qd)[1], q, e) for e in eye])
+    # d/dt (M qd) at qdd = 0 is the derivative of M(q + s qd) qd along s
+    mdot_qd = _diff(lambda x: np.einsum("kij,kj->ki", mass_from_energy(robot, x), qd), q, qd)
+    h = mdot_qd - dT + dV
+    return {"M": M, "g": dV, "h": h, "tau": np.einsum("kij,kj->ki", M, qdd) + h}
+
+
+def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
+    q, qd, qdd, _ = random_states(robot, samples, seed)
+    ref = lagrange_from_energy(robot, q, qd, qdd)
+    fns = robot.library.functions
+    got = {"mass_matrix.M": (robot.mass_matrix(q), ref["M"]),
+           "gravity.g": (robot.gravity(q), ref["g"]),
+           "bias.h": (robot.bias(q, qd), ref["h"]),
+           "inverse_dynamics.tau": (robot.tree_inverse_dynamics(q, qd, qdd), ref["tau"])}
+    if robot.is_closed_chain:
+        terms = fns["constrained_terms"](samples, {"q": q, "qd": qd, "p": robot.p})
+        got.update({"constrained_terms.M": (terms["M"], ref["M"]),
+                    "constrained_terms.h": (terms["h"], ref["h"])})
+    else:
+        tau = ref["tau"]
+        got["forward_dynamics.qdd"] = (robot.forward_dynamics(q, qd, tau), qdd)
+        args = {"q": q, "qd": qd, "tau": tau, "p": robot.p}
+        jac = fns["forward_dynamics_jacobian"](samples, args)
+        eye = np.eye(robot.n)
+        by_q = [_diff(lambda x: robot.forward_dynamics(x, qd, tau), q, e) for e in eye]
+        by_qd = [_diff(lambda x: robot.forward_dynamics(q, x, tau), qd, e) for e in eye]
+        got["forward_dynamics_jacobian.dqdd_dq"] = (jac["dqdd_dq"], np.stack(by_q, axis=2))
+        got["forward_dynamics_jacobian.dqdd_dqd"] = (jac["dqdd_dqd"], np.stack(by_qd, axis=2))
+    errs = {k: rel_err(a, b) for k, (a, b) in got.items()}
+    where = _worst(errs)
+    return row(f"(b) Lagrange from the energy (finite differences), {samples} states",
+               errs[where], TOL_ROUTE, f"worst: {where}; vs compiled M, g, h, tau"
+               + ("" if robot.is_closed_chain else ", forward dynamics"))
+
+
+# -- a smooth motion, at t and at t + k * STEP for the time differences ---------------------------
+def motion(robot: Robot, samples: int, amplitude: float) -> dict:
+    """Joint motion ``q0 + A sin(2 pi t + phase_i)`` over 1 s from the drawn pose, at the times
+    t + k STEP (k = -2..2); closed chains move their actuated joints and solve the others."""
+    from .closed_chain import from_actuated
+    from .kinematics import JointTrajectory
+
+    idx = np.array(robot.actuated if robot.is_closed_chain else range(robot.n), dtype=int)
+    phase = np.linspace(0.0, np.pi, len(idx), endpoint=False)
+    t0 = np.linspace(0.0, 1.0, samples)
+    out = {}
+    w = 2 * np.pi
+    for k in D2:
+        t = t0 + k * STEP
+        arg = w * t[:, None] + phase
+        s, c = amplitude * np.sin(arg), amplitude * np.cos(arg)
+        q, qd, qdd = robot.q_drawn[idx] + s, w * c, -w**2 * s
+        out[k] = (from_actuated(robot, t, q, qd, qdd, robot.q_drawn) if robot.is_closed_chain
+                  else JointTrajectory(t, q, qd, qdd))
+    return out
+
+
+def check_power(robot: Robot, traj: dict) -> Row:
+    """Power in, ``sum tau_i qd_i`` (actuated joints), against dE/dt from the energy."""
+    energy = {k: sum(robot.energy(j.q, j.qd)) for k, j in traj.items()}
+    de_dt = sum(c * energy[k] for k, c in D1.items()) / STEP
+    j = traj[0]
+    if robot.is_closed_chain:
+        tau, _ = robot.closed_chain_inverse_dynamics(j.q, j.qd, j.qdd)
+        power = np.sum(tau * j.qd[:, list(robot.actuated)], axis=1)
+    else:
+        power = np.sum(robot.inverse_dynamics(j.q, j.qd, j.qdd) * j.qd, axis=1)
+    return row(f"(d) power balance sum tau qd = dE/dt, {len(power)} samples",
+               rel_err(power[:, None], de_dt[:, None], peak=True), TOL_POWER,
+               f"relative to peak power {np.max(np.abs(de_dt)):.3g} W")
+
+
+def check_null_space(robot: Robot, traj: dict) -> Row:
+    """Torques from the multiplier solve against ``G^T (M qdd + h)``, G = dq/dq_actuated, with
+    M qdd + h from the energy route: the constraint forces do no work along G."""
+    from .closed_chain import partition
+
+    act, pas = partition(robot)
+    j = traj[0]
+    tau, _ = robot.closed_chain_inverse_dynamics(j.q, j.qd, j.qdd)
+    jac = robot.constraint_jacobian(j.q).reshape(len(j.q), robot.n_constraints, robot.n)
+    G = np.zeros((len(j.q), robot.n, len(act)))
+    G[:, act, np.arange(len(act))] = 1.0
+    G[:, pas, :] = -np.linalg.solve(jac[:, :, pas], jac[:, :, act])
+    tree = lagrange_from_energy(robot, j.q, j.qd, j.qdd)["tau"]
+    worst = rel_err(tau, np.einsum("kia,ki->ka", G, tree), peak=True)
+    return row("(b) closed chain: multipliers vs null space G^T (M qdd + h)", worst, TOL_ROUTE,
+               "M qdd + h from the energy route, along the motion of (d)")
+
+
+def check_constraints(robot: Robot, traj: dict, sim=None) -> list[Row]:
+    j = traj[0]
+    phi = float(np.max(np.abs(robot.constraint(j.q))))
+    where = "along the motion of (d)"
+    if sim is not None and sim.constraint_drift_m > phi:
+        phi, where = sim.constraint_drift_m, "in the free motion of (c)"
+    qd = sum(c * traj[k].q for k, c in D1.items()) / STEP
+    qdd = sum(c * traj[k].q for k, c in D2.items()) / STEP ** 2
+    rates = max(rel_err(j.qd, qd, peak=True), rel_err(j.qdd, qdd, peak=True))
+    return [row("(e) loop residual max |Phi| (m)", phi, TOL_PHI_M, f"worst {where}"),
+            row("(e) passive qd, qdd vs differences of q(t)", rates, TOL_RATES,
+                "checks Phi_q and gamma against the Newton-solved positions")]
+
+
+# -- (c) free motion ----------------------------------------------------------------------------
+def free_motion(robot: Robot, seconds: float = 1.0):
+    """Zero torque from the drawn pose at rest; pushed (actuated joints 1 rad/s) if that pose
+    does not move by itself (an equilibrium, or no gravity)."""
+    from .simulation import simulate
+
+    t = np.linspace(0.0, seconds, 201)
+    sim = simulate(robot, robot.q_drawn, np.zeros(robot.n), (0.0, seconds), t_eval=t)
+    if np.max(sim.kinetic_j) <= 1e-12 * max(np.max(np.abs(sim.energy_j)), 1e-300):
+        qd0 = np.zeros(robot.n)
+        qd0[list(robot.actuated)] = 1.0
+        sim = simulate(robot, robot.q_drawn, qd0, (0.0, seconds), t_eval=t)
+    return sim
+
+
+def check_energy(sim) -> Row:
+    return row(f"(c) energy drift, free motion {sim.t_s[-1]:g} s", sim.energy_drift, TOL_ENERGY,
+               f"relative; peak kinetic energy {np.max(sim.kinetic_j):.3g} J")
+
+
+# -- everything ---------------------------------------------------------------------------------
+def run_all(robot: Robot, description: Path | None = None, *, samples: int = 20,
+            seconds: float = 1.0, progress=None) -> list[Row]:
+    """Every check that applies to ``robot``; a check that raises becomes a FAIL row."""
+    closed = robot.is_closed_chain
+    # shared by several checks, computed once; 0.05 rad keeps closed chains inside the workspace
+    traj = functools.cache(lambda: motion(robot, 41, 0.05 if closed else 0.3))
+    sim = functools.cache(lambda: free_motion(robot, seconds))
+    steps = [("(a) compiled vs SymPy", lambda: check_symbolic(robot, description, samples)),
+             ("(b) Lagrange from the energy", lambda: check_energy_route(robot, samples))]
+    if closed:
+        steps.append(("(b) null-space torques", lambda: check_null_space(robot, traj())))
+    steps += [("(c) free motion", lambda: check_energy(sim())),
+              ("(d) power balance", lambda: check_power(robot, traj()))]
+    if closed:  # the free motion's drift too, unless it failed (then (c) says so)
+        steps.append(("(e) constraints", lambda: check_constraints(
+            robot, traj(), sim() if sim.cache_info().currsize else None)))
+    rows: list[Row] = []
+    if progress is not None:
+        progress.total = len(steps)
+    for label, fn in steps:
+        if progress is not None:
+            progress.step(f"{robot.name}: {label}")
+        try:
+            result = fn()
+        except (PlanarSymError, np.linalg.LinAlgError) as exc:
+            result = Row(label, math.inf, None, "FAIL", f"raised {type(exc).__name__}: {exc}")
+        rows += result if isinstance(result, list) else [result]
+    return rows

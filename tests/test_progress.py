@@ -1,0 +1,95 @@
+"""Progress lines: shown on a terminal, never into a pipe or a file, never under --quiet; used by
+``planar-sym build``, ``derive``, ``validate`` and ``python -m derive``."""
+
+from __future__ import annotations
+
+import io
+
+from conftest import ROOT
+
+from planar_sym.cli import main
+from planar_sym.progress import Progress, track, wanted
+
+
+class FakeTTY(io.StringIO):
+    """A stream that says it is a terminal."""
+
+    def isatty(self) -> bool:
+        return True
+
+
+def test_not_a_terminal_prints_nothing():
+    stream = io.StringIO()
+    progress = Progress(2, stream=stream)
+    progress.step("deriving a")
+    progress.note("detail")
+    progress.done()
+    assert list(track(["x", "y"], "compiling", stream=stream)) == ["x", "y"]
+    assert stream.getvalue() == ""
+    assert not wanted(stream) and not wanted(object())  # no isatty at all: not a terminal
+
+
+def test_a_terminal_gets_one_line_per_step():
+    stream = FakeTTY()
+    assert list(track(["a", "b"], "compiling", stream=stream)) == ["a", "b"]
+    lines = stream.getvalue().splitlines()
+    assert lines[:2] == ["[1/2] compiling a ...", "[2/2] compiling b ..."]
+    assert lines[2].startswith("done: 2 in ")
+
+
+def test_quiet_silences_a_terminal():
+    stream = FakeTTY()
+    progress = Progress(1, quiet=True, stream=stream)
+    progress.step("deriving a")
+    progress.done()
+    assert list(track(["a"], "x", quiet=True, stream=stream)) == ["a"]
+    assert stream.getvalue() == "" and not wanted(stream, quiet=True)
+
+
+def tty_stderr(monkeypatch) -> FakeTTY:
+    """Standard error replaced by a fake terminal. Call it in the test body: pytest's output
+    capture re-installs its own sys.stderr between a fixture's set-up and the test."""
+    stream = FakeTTY()
+    monkeypatch.setattr("sys.stderr", stream)
+    return stream
+
+
+def test_build_shows_progress_on_a_terminal_only(monkeypatch, capsys):
+    tty = tty_stderr(monkeypatch)
+    assert main(["build", "serial_2dof", "five_bar_type1"]) == 0
+    assert "[1/2] compiling serial_2dof ..." in tty.getvalue()
+    assert "[2/2] compiling five_bar_type1 ..." in tty.getvalue()
+    tty.truncate(0)
+    assert main(["--quiet", "build", "serial_2dof"]) == 0
+    assert main(["build", "serial_2dof", "--quiet"]) == 0
+    assert tty.getvalue() == ""
+    lines = capsys.readouterr().out.splitlines()  # --quiet runs add no result line either
+    assert [line.split(":")[0] for line in lines] == ["serial_2dof", "five_bar_type1"]
+
+
+def test_validate_shows_each_check(monkeypatch):
+    tty = tty_stderr(monkeypatch)
+    assert main(["validate", "serial_2dof"]) == 0
+    assert "[1/4] serial_2dof: (a) compiled vs SymPy ..." in tty.getvalue()
+    assert "[4/4] serial_2dof: (d) power balance ..." in tty.getvalue()
+
+
+def test_derive_shows_progress_per_robot(tmp_path, monkeypatch):
+    tty = tty_stderr(monkeypatch)
+    monkeypatch.setenv("PLANAR_SYM_CACHE", str(tmp_path / "cache"))
+    toml = ROOT / "examples" / "heavy_motor_2dof.toml"
+    assert main(["derive", str(toml), "--out", str(tmp_path / "cli")]) == 0
+    err = tty.getvalue()
+    assert f"[1/2] deriving heavy_motor_2dof ({toml}) ..." in err
+    assert "[2/2] compiling heavy_motor_2dof ..." in err
+
+    from derive.__main__ import main as derive_main
+
+    tty.truncate(0)
+    tty.seek(0)
+    assert derive_main([str(toml), "--out", str(tmp_path / "module")]) == 0
+    assert f"[1/1] deriving {toml} ..." in tty.getvalue()
+    tty.truncate(0)
+    tty.seek(0)
+    assert derive_main([str(toml), "--out", str(tmp_path / "module"), "--quiet"]) == 0
+    assert tty.getvalue() == ""
