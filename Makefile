@@ -32,8 +32,8 @@ test: $(STAMP)  ## the whole test suite
 test-fast: $(STAMP)  ## tests without the slow re-derivation checks
 	$(PY) -m pytest -q -m "not slow"
 
-demo: derive-check build  ## every seed scenario into results/ (CSV + PNG)
-	$(PY) -m planar_sym run --all --out results
+demo: derive-check build  ## every scenario, animation and robot drawing into results/ (index: results/README.md)
+	$(PY) -m planar_sym demo --out results
 
 lint: $(STAMP)  ## ruff on the sources (generated/ excluded)
 	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests

@@ -1,4 +1,9 @@
-"""Figures like the seed's Scope windows: one axis per joint, quantities and units labelled."""
+"""Figures like the seed's Scope windows: one axis per joint, quantities and units labelled.
+
+Figures are made with ``matplotlib.figure.Figure``, never through pyplot, and rendered by Agg when
+saved: no display is needed, nothing is registered globally (no figure to close, safe in
+threads), and a notebook still shows a returned Figure.
+"""
 
 from __future__ import annotations
 
@@ -8,40 +13,96 @@ import numpy as np
 
 from .results import Result
 
+#: colours of the split parts (plotting order of scenarios.SPLIT_PARTS), total in black
+SPLIT_COLOURS = ("tab:blue", "tab:orange", "tab:green")
+
+
+def new_figure(figsize: tuple[float, float]):
+    """An empty Figure (inches), outside pyplot.
+
+    Its canvas is matplotlib's base canvas, which never draws by itself: ``savefig`` (and an
+    animation writer's frame grab) renders with Agg, exactly once per image. An Agg canvas
+    would also redraw on every ``draw_idle`` of an animation, about 1.7 times the work.
+    """
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=figsize)
+
+
+def tight(fig) -> None:
+    """``tight_layout`` once, then no layout engine.
+
+    ``tight_layout`` leaves a placeholder engine behind, and with any engine set every
+    ``savefig`` lays the figure out again in an extra draw pass: twice the text layout work per
+    animation frame.
+    """
+    fig.tight_layout()
+    fig.set_layout_engine(None)
+
+
+def _axes(n: int):
+    fig = new_figure((7, 1.0 + 1.9 * n))
+    axes = fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]
+    return fig, axes
+
+
+def _finish(fig, axes, result: Result, title: str) -> None:
+    axes[-1].set_xlabel("time t (s)")
+    fig.suptitle(f"{result.name}\n{title}", fontsize=9)
+    if result.note:
+        fig.text(0.01, 0.005, result.note, fontsize=7, alpha=0.7)
+    tight(fig)
+
 
 def figure(result: Result):
     """A matplotlib Figure of a result (joint angles in deg, or torques in N*m, against t in s)."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    if result.plot == "angles":
+    if result.kind == "angles":
         keys = [k for k in result.columns if k.startswith("q") and k[1:].isdigit()]
         label, scale = "joint angle {} (deg)", 180 / np.pi
     else:
         keys = [k for k in result.columns if k.startswith("tau") and k[3:].isdigit()]
         label, scale = "torque {} (N*m)", 1.0
-    fig, axes = plt.subplots(len(keys), 1, sharex=True, figsize=(7, 1.0 + 1.9 * len(keys)),
-                             squeeze=False)
+    fig, axes = _axes(len(keys))
     t = result.columns["t"]
-    for ax, key in zip(axes[:, 0], keys):
+    for ax, key in zip(axes, keys):
         ax.plot(t, result.columns[key] * scale, lw=1.6)
         ax.set_ylabel(label.format(key))
         ax.grid(True, alpha=0.4)
-    axes[-1, 0].set_xlabel("time t (s)")
-    fig.suptitle(f"{result.name}\n{result.summary}", fontsize=9)
-    if result.note:
-        fig.text(0.01, 0.005, result.note, fontsize=7, alpha=0.7)
-    fig.tight_layout()
+    _finish(fig, axes, result, result.summary)
     return fig
 
 
-def save_figure(result: Result, path: Path) -> None:
-    import matplotlib.pyplot as plt
+def split_figure(result: Result):
+    """Each actuated torque (N*m) against t (s) with its parts M qdd, C qd and g.
 
-    fig = figure(result)
-    try:
-        fig.savefig(path, dpi=110, format="png")
-    finally:
-        plt.close(fig)
+    The parts are ``result.split`` (see ``scenarios.torque_split``); the total is the torque
+    column ``tau<k>`` where the result has one, else (forward dynamics, zero torque) their sum.
+    """
+    from .scenarios import SPLIT_PARTS
+
+    parts = [result.split[k] for k in SPLIT_PARTS]
+    n_act = parts[0].shape[1]
+    fig, axes = _axes(n_act)
+    t = result.columns["t"]
+    for k, ax in enumerate(axes):
+        total = result.columns.get(f"tau{k + 1}", sum(p[:, k] for p in parts))
+        ax.plot(t, total, color="black", lw=2.2, label=f"tau{k + 1} (total)")
+        for part, label, colour in zip(parts, SPLIT_PARTS.values(), SPLIT_COLOURS):
+            ax.plot(t, part[:, k], color=colour, lw=1.3, label=label)
+        ax.axhline(0.0, color="grey", lw=0.6)
+        ax.set_ylabel(f"torque tau{k + 1} (N*m)")
+        ax.grid(True, alpha=0.4)
+    axes[0].legend(fontsize=7, ncol=4, loc="best")
+    # cut-joint force columns mark a closed chain, whose parts went through the multiplier solve
+    closed = any(k.startswith("fx_") for k in result.columns)
+    how = "each part through [S^T Phi_q^T], as tau is" if closed else "tau = M qdd + C qd + g"
+    if not any(k.startswith("tau") for k in result.columns):
+        how += "; tau = 0 here: the parts balance"
+    _finish(fig, axes, result, f"torque split: inertial M qdd, velocity C qd, gravity g ({how})")
+    return fig
+
+
+def save_figure(result: Result, path: Path, split: bool = False) -> None:
+    """Write the result's figure (or its torque split) as PNG to ``path``."""
+    fig = split_figure(result) if split else figure(result)
+    fig.savefig(path, dpi=110, format="png")

@@ -2,26 +2,34 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import tempfile
-from dataclasses import dataclass
+from collections.abc import Iterator
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from .errors import InputError
 
 
 @dataclass(frozen=True)
 class Result:
     """Columns (name -> (N,) array) of one scenario; names carry units (``t`` in s).
 
-    ``plot`` says what the figure shows: ``"angles"`` (joint angles, deg) or ``"torques"``.
+    ``kind`` says what the main figure shows: ``"angles"`` (joint angles, deg) or
+    ``"torques"`` (N*m). ``split`` holds the actuated torques split into parts (keys of
+    ``scenarios.SPLIT_PARTS``: inertial ``M qdd``, velocity ``C qd``, gravity ``g``), each
+    (N, actuated) in N*m, summing to the torques; it is not written to the CSV.
     """
 
     name: str
     summary: str
     columns: dict[str, np.ndarray]
-    plot: str
+    kind: str
     note: str = ""
+    split: dict[str, np.ndarray] = field(default_factory=dict)
 
     def table(self) -> np.ndarray:
         return np.column_stack(list(self.columns.values()))
@@ -36,27 +44,75 @@ class Result:
         rows = "\n".join(",".join(f"{v:.17g}" for v in row) for row in self.table())
         return header + "\n" + rows + "\n"
 
+    def plot(self, split: bool = False):
+        """The result's matplotlib Figure (for notebooks): the seed-like plot, or the split.
 
-def write(result: Result, out_dir: Path) -> list[Path]:
-    """Write ``<name>.csv`` and ``<name>.png`` into ``out_dir``; all or nothing."""
-    from .plots import save_figure
+        Parameters
+        ----------
+        split : bool
+            False: joint angles (deg) or torques (N*m) against time (s). True: each actuated
+            torque (N*m) with its parts ``M qdd``, ``C qd`` and ``g``.
+        """
+        from .plots import figure, split_figure
 
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    targets = [out_dir / f"{result.name}.csv", out_dir / f"{result.name}.png"]
+        if not split:
+            return figure(self)
+        if not self.split:
+            raise InputError(f"{self.name} has no torque split")
+        return split_figure(self)
+
+
+@contextlib.contextmanager
+def atomic_files(targets: list[Path]) -> Iterator[list[Path]]:
+    """Temporary paths beside ``targets``, renamed onto them only if the block succeeds.
+
+    Each temporary file keeps its target's suffix, because writers such as matplotlib and
+    Pillow pick the file format from it. On any exception every temporary file is removed and
+    no target is touched, so a failed command never leaves a partial file.
+    """
     temps: list[str] = []
     try:
         for target in targets:
-            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=out_dir)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix,
+                                       dir=target.parent)
             os.close(fd)
             temps.append(tmp)
-        Path(temps[0]).write_text(result.csv_text())
-        save_figure(result, Path(temps[1]))
+        yield [Path(t) for t in temps]
         for tmp, target in zip(temps, targets):
-            os.chmod(tmp, 0o644)
+            os.chmod(tmp, 0o644)  # mkstemp makes 0600; results are meant to be shared
             os.replace(tmp, target)
     finally:
         for tmp in temps:
             if os.path.exists(tmp):
                 os.unlink(tmp)
+
+
+def write(result: Result, out_dir: Path, split: bool = False) -> list[Path]:
+    """Write ``<name>.csv`` and ``<name>.png`` (and ``<name>_split.png``); all or nothing.
+
+    Parameters
+    ----------
+    result : Result
+    out_dir : Path
+        Created if missing.
+    split : bool
+        Also write the torque-split figure.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    from .plots import save_figure
+
+    out_dir = Path(out_dir)
+    targets = [out_dir / f"{result.name}.csv", out_dir / f"{result.name}.png"]
+    if split:
+        targets.append(out_dir / f"{result.name}_split.png")
+    with atomic_files(targets) as temps:
+        temps[0].write_text(result.csv_text())
+        save_figure(result, temps[1])
+        if split:
+            save_figure(result, temps[2], split=True)
     return targets

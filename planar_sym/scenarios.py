@@ -106,7 +106,8 @@ def run(name: str, samples: int | None = None) -> Result:
     tau = robot.inverse_dynamics(jt.q, jt.qd, jt.qdd)
     cols.update({f"q{i + 1}": jt.q[:, i] for i in range(robot.n)})
     cols.update({f"tau{i + 1}": tau[:, i] for i in range(robot.n)})
-    return Result(sc.name, sc.summary, cols, plot="torques")
+    return Result(sc.name, sc.summary, cols, kind="torques",
+                  split=torque_split(robot, jt.q, jt.qd, jt.qdd))
 
 
 def _closed(sc: Scenario, robot: Robot, jt: JointTrajectory, cols: dict) -> Result:
@@ -122,7 +123,8 @@ def _closed(sc: Scenario, robot: Robot, jt: JointTrajectory, cols: dict) -> Resu
     drift = float(np.max(np.abs(robot.constraint(jt.q))))
     note = (f"actuated joints {', '.join(robot.coordinates[i] for i in robot.actuated)}; "
             f"loop residual max |Phi| = {drift:.1e} m; f*: force on the cut joint's parent body")
-    return Result(sc.name, sc.summary, cols, plot="torques", note=note)
+    return Result(sc.name, sc.summary, cols, kind="torques", note=note,
+                  split=torque_split(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s))
 
 
 def _forward(sc: Scenario, robot: Robot, t: np.ndarray) -> Result:
@@ -134,4 +136,94 @@ def _forward(sc: Scenario, robot: Robot, t: np.ndarray) -> Result:
     cols.update({f"qd{i + 1}": sim.qd[:, i] for i in range(robot.n)})
     cols["energy_j"] = sim.energy_j
     note = f"energy drift {sim.energy_drift:.2e} (relative), {sim.method} rtol {sim.rtol:g}"
-    return Result(sc.name, sc.summary, cols, plot="angles", note=note)
+    # the free swing has tau = 0: its split shows how M qdd, C qd and g balance each other
+    qdd = robot.forward_dynamics(sim.q, sim.qd, sim.tau)
+    return Result(sc.name, sc.summary, cols, kind="angles", note=note,
+                  split=torque_split(robot, sim.q, sim.qd, qdd))
+
+
+#: the parts of the torque split, in plotting order: name -> label in the plots
+SPLIT_PARTS = {"inertial": "M qdd", "velocity": "C qd", "gravity": "g"}
+
+
+def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
+    """The actuated torques split into inertial, velocity-dependent and gravity parts.
+
+    .. code:: text
+
+        tau = tau(M qdd) + tau(C qd) + tau(g)
+
+    For a tree every joint is actuated and the parts are the terms themselves. For a closed
+    chain the torques come from the linear solve ``[S^T Phi_q^T] [tau; lambda] = M qdd + h``,
+    so each term is pushed through the same matrix and the parts still add up to tau.
+
+    Parameters
+    ----------
+    robot : Robot
+    q, qd, qdd : ndarray, shape (N, n)
+        Every coordinate (rad, rad/s, rad/s^2), consistent with the loops for closed chains.
+    t : ndarray, shape (N,), optional
+        Times (s), only to name the sample of a singular pose.
+
+    Returns
+    -------
+    dict
+        ``SPLIT_PARTS`` keys -> ndarray (N, actuated), N*m.
+    """
+    q, qd, qdd = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (q, qd, qdd))
+    n_s, n = q.shape
+    mass = robot.mass_matrix(q).reshape(n_s, n, n)
+    h = robot.bias(q, qd).reshape(n_s, n)
+    g = robot.gravity(q).reshape(n_s, n)
+    terms = np.stack([(mass @ qdd[..., None])[..., 0], h - g, g], axis=-1)  # (N, n, 3)
+    if robot.is_closed_chain:
+        terms = _through_actuation(robot, q, terms, t)
+    return {k: terms[:, :, i] for i, k in enumerate(SPLIT_PARTS)}
+
+
+def _through_actuation(robot: Robot, q: np.ndarray, terms: np.ndarray, t) -> np.ndarray:
+    """Actuated-torque share of each column of ``terms`` (N, n, parts), as in closed_chain."""
+    from .closed_chain import _check_cond, partition
+
+    act, _ = partition(robot)
+    n_s, n = q.shape
+    jac = robot.constraint_jacobian(q).reshape(n_s, robot.n_constraints, n)
+    a = np.zeros((n_s, n, n))
+    a[:, act, np.arange(len(act))] = 1.0
+    a[:, :, len(act):] = jac.transpose(0, 2, 1)
+    _check_cond(robot, a, "actuation matrix [S^T Phi_q^T]", t)
+    # one solve for all parts: the multipliers' shares are dropped, torques kept
+    return np.linalg.solve(a, terms)[:, :len(act), :]
+
+
+def motion(name: str, samples: int) -> tuple[Robot, np.ndarray, np.ndarray]:
+    """Every joint's angle over a scenario, for pictures.
+
+    Parameters
+    ----------
+    name : str
+        Scenario name.
+    samples : int
+        Evenly spaced samples over the scenario's duration, >= 2.
+
+    Returns
+    -------
+    robot : Robot
+    t : ndarray, shape (samples,)
+        Time (s).
+    q : ndarray, shape (samples, n)
+        Every coordinate (rad): simulated for forward dynamics, and for inverse dynamics the
+        full joint trajectory, passive joints of closed chains included.
+    """
+    sc = get(name)
+    if not isinstance(samples, (int, np.integer)) or samples < 2:
+        raise InputError(f"the number of frames must be an integer >= 2 (got {samples})")
+    robot = load(sc.robot)
+    t = np.linspace(0.0, sc.duration_s, samples)
+    if sc.kind == "forward":
+        from .simulation import simulate
+
+        sim = simulate(robot, np.radians(sc.x0), np.zeros(robot.n), (0.0, sc.duration_s),
+                       t_eval=t)
+        return robot, t, sim.q
+    return robot, t, joint_motion(sc, robot, t)[0].q

@@ -1,0 +1,102 @@
+"""``planar-sym demo``: every scenario, animation and robot drawing, with an index README.md."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from ..errors import InputError
+
+
+def register(sub) -> None:
+    p = sub.add_parser("demo", help="every scenario (CSV, plots, animation), every robot "
+                                    "drawn, and DIR/README.md indexing them")
+    p.add_argument("--out", type=Path, default=Path("results"), help="output folder")
+    p.add_argument("--samples", type=int, default=None,
+                   help="samples per scenario (default 201 inverse, 1001 forward dynamics)")
+    p.add_argument("--frames", type=int, default=40, help="frames per animation (default 40)")
+    p.add_argument("--fps", type=float, default=15.0, help="animation frames per second (default 15)")
+    p.set_defaults(fn=run)
+
+
+def run(args) -> int:
+    from ..description import builtin_robots
+    from ..results import atomic_files, write
+    from ..scenarios import SCENARIOS
+    from ..scenarios import run as run_scenario
+    from .animate import write_animation, writer_for
+    from .draw import save_drawing
+
+    if args.samples is not None and args.samples < 2:
+        raise InputError(f"--samples must be an integer >= 2 (got {args.samples})")
+    if args.frames < 2:
+        raise InputError(f"--frames must be an integer >= 2 (got {args.frames})")
+    writer_for(Path("check.gif"), args.fps)  # a bad --fps fails before anything is written
+    out, robots = Path(args.out), builtin_robots()
+    total = 2 * len(SCENARIOS) + len(robots) + 1
+    progress = Progress(total, args.quiet)
+    results = []
+    for name in SCENARIOS:
+        result = run_scenario(name, args.samples)
+        results.append(result)
+        progress(f"{name}: {', '.join(p.name for p in write(result, out, split=True))}")
+        gif = write_animation(name, out / f"{name}.gif", frames=args.frames, fps=args.fps,
+                              dpi=80, figsize=(5.0, 4.2))
+        progress(f"{name}: {gif.name} ({args.frames} frames)")
+    for robot in robots:
+        save_drawing(robot, out / f"{robot}.png")
+        progress(f"{robot}: {robot}.png")
+    index = out / "README.md"
+    with atomic_files([index]) as (tmp,):
+        tmp.write_text(index_text(results, robots))
+    progress(f"index: {index}")
+    return 0
+
+
+class Progress:
+    """One line per finished item on stderr: ``[k/total] what (seconds for it)``."""
+
+    def __init__(self, total: int, quiet: bool):
+        self.total, self.quiet, self.done, self.last = total, quiet, 0, time.perf_counter()
+
+    def __call__(self, what: str) -> None:
+        now = time.perf_counter()
+        self.done += 1
+        if not self.quiet:
+            print(f"[{self.done}/{self.total}] {what} ({now - self.last:.2f} s)",
+                  file=sys.stderr, flush=True)
+        self.last = now
+
+
+def peaks_text(result) -> str:
+    """Peak |torque| per actuated joint (N*m), or why there is none."""
+    peaks = result.peak("tau")
+    if not peaks:
+        return "none (forward dynamics, zero torque)"
+    return ", ".join(f"{k} = {v:.6g}" for k, v in peaks.items())
+
+
+def index_text(results, robots: list[str]) -> str:
+    """``README.md`` of a demo folder: every scenario with its files, every robot drawn."""
+    from ..description import load as load_description
+
+    about = ("Made by `planar-sym demo`: every scenario of the seed chapter (CSV, the seed-like "
+             "plot, the torque split into inertial `M qdd`, velocity `C qd` and gravity `g` "
+             "parts, and an animation), and every robot in its drawn configuration. "
+             "Column units are in the CSV headers (t in s, angles in rad, torques in N*m).")
+    lines = ["# planar-sym demo results", "", about, "", "## Scenarios", "",
+             "| scenario | what | peak abs(torque) per joint (N*m) | files |",
+             "|---|---|---|---|"]
+    for r in results:
+        files = " · ".join(f"[{label}]({r.name}{suffix})" for label, suffix in (
+            ("CSV", ".csv"), ("plot", ".png"), ("split", "_split.png"),
+            ("animation", ".gif")))
+        lines.append(f"| `{r.name}` | {r.summary} | {peaks_text(r)} | {files} |")
+    lines += ["", "## Robots", "", "| robot | what | drawing |", "|---|---|---|"]
+    for robot in robots:
+        lines.append(f"| `{robot}` | {load_description(robot).title} | "
+                     f"[{robot}.png]({robot}.png) |")
+    for robot in robots:
+        lines += ["", f"### {robot}", "", f"![{robot} in its drawn configuration]({robot}.png)"]
+    return "\n".join(lines) + "\n"

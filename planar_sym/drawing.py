@@ -1,0 +1,315 @@
+"""Pictures of a mechanism: bodies, joints, centres of gravity and the task point, still or moving.
+
+World positions come from the compiled body frames (``Robot.frames``) and the description's
+body-frame points, so a picture shows the model the equations use, not a second copy of the
+geometry. Everything is plotted in mm (the seed's unit) with equal axes. Artists carry a ``gid``
+(``joint:<name>``, ``cg:<body>``, ``body:<body>``, ``task``) so tests can read them back.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .description import GROUND, Description
+
+MM = 1e3  # m -> mm: pictures use the seed's unit
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """World positions (m) of a robot over N configurations.
+
+    ``points[(body, point)]`` and ``cgs[body]`` are arrays of shape (N, 2); ground points are
+    repeated at every sample.
+    """
+
+    points: dict[tuple[str, str], np.ndarray]
+    cgs: dict[str, np.ndarray]
+
+    def extent(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower-left and upper-right corners (m) of everything, the world origin included."""
+        xy = np.concatenate([a for a in (*self.points.values(), *self.cgs.values())]
+                            + [np.zeros((1, 2))])
+        return xy.min(axis=0), xy.max(axis=0)
+
+
+def to_world(frames: np.ndarray, local) -> np.ndarray:
+    """Body-frame point(s) ``local`` (m) to world (m) for frames (N, 3): x, y (m), angle (rad)."""
+    c, s = np.cos(frames[:, 2]), np.sin(frames[:, 2])
+    x, y = local
+    return np.column_stack([frames[:, 0] + c * x - s * y, frames[:, 1] + s * x + c * y])
+
+
+def geometry(desc: Description, body_names, frames: np.ndarray) -> Geometry:
+    """Every named point and centre of gravity in world coordinates.
+
+    Parameters
+    ----------
+    desc : Description
+        Gives body-frame points and centres of gravity (m).
+    body_names : sequence of str
+        Body order of ``frames`` (``Robot.body_names``).
+    frames : ndarray, shape (N, bodies, 3) or (bodies, 3)
+        ``Robot.frames(q)``: origin (m) and angle (rad) of every body frame.
+    """
+    frames = np.asarray(frames, dtype=float).reshape(-1, len(body_names), 3)
+    n = len(frames)
+    points = {(GROUND, p): np.tile(xy, (n, 1))
+              for p, xy in desc.bodies[GROUND].points_m.items()}
+    cgs = {}
+    for k, name in enumerate(body_names):
+        body = desc.bodies[name]
+        points.update({(name, p): to_world(frames[:, k], xy) for p, xy in body.points_m.items()})
+        cgs[name] = to_world(frames[:, k], body.cg_m)
+    return Geometry(points, cgs)
+
+
+def joint_roles(desc: Description) -> list[tuple[str, tuple[str, str], str]]:
+    """(name, (body, point) where it is drawn, role) of every revolute joint.
+
+    Role is ``"actuated"``, ``"passive"`` or ``"cut"`` (a loop-closing joint); welds are not
+    joints a reader needs to see: the welded body is drawn instead.
+    """
+    out = []
+    for j in (*desc.tree_joints, *desc.loop_joints):
+        if j.type == "revolute":
+            role = "cut" if j.closes_loop else "actuated" if j.actuated else "passive"
+            out.append((j.name, (j.parent, j.parent_point), role))
+    return out
+
+
+def point_labels(desc: Description) -> dict[tuple[str, str], str]:
+    """Label of every named point that is not a joint location.
+
+    A point's own name where it is unique in the robot, ``body.point`` where several bodies
+    have a point of that name (every link has a CS1).
+    """
+    at_joint = {(j.parent, j.parent_point) for j in (*desc.tree_joints, *desc.loop_joints)}
+    at_joint |= {(j.child, j.child_point) for j in (*desc.tree_joints, *desc.loop_joints)}
+    names = [p for b in desc.bodies.values() for p in b.points_m]
+    return {(b.name, p): (p if names.count(p) == 1 else f"{b.name}.{p}")
+            for b in desc.bodies.values() for p in b.points_m if (b.name, p) not in at_joint}
+
+
+def outline(points: dict[str, tuple[float, float]]) -> tuple[list[str], bool]:
+    """Drawing order of a body's points and whether they enclose an area.
+
+    A body whose points (nearly) lie on a line is a link: its points sorted along it. Otherwise
+    the convex hull (monotone chain), drawn as a plate; points inside it are not corners.
+    """
+    names = list(points)
+    xy = np.array([points[p] for p in names])
+    if len(names) < 3:
+        return names, False
+    d = xy[:, None, :] - xy[None, :, :]
+    i, j = np.unravel_index(np.argmax(np.hypot(d[..., 0], d[..., 1])), d.shape[:2])
+    axis = (xy[j] - xy[i]) / np.linalg.norm(xy[j] - xy[i])
+    along = (xy - xy[i]) @ axis
+    off = np.abs((xy - xy[i]) @ np.array([-axis[1], axis[0]]))
+    if off.max() < 0.1 * along.max():  # thin: a (possibly slightly bent) link, not a plate
+        return [names[k] for k in np.argsort(along)], False
+    order = sorted(range(len(names)), key=lambda k: tuple(xy[k]))
+    hull: list[int] = []
+    for seq in (order, order[::-1]):
+        start = len(hull)
+        for k in seq:
+            while len(hull) >= start + 2 and _cross(xy[hull[-2]], xy[hull[-1]], xy[k]) <= 0:
+                hull.pop()
+            hull.append(k)
+        hull.pop()  # the last of each half is the first of the other
+    return [names[k] for k in hull], True
+
+
+def _cross(o, a, b) -> float:
+    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
+
+
+def _cg_marker():
+    """The quartered-circle centre-of-gravity symbol: two opposite filled quadrants."""
+    from matplotlib.path import Path
+
+    return Path.make_compound_path(Path.wedge(0, 90), Path.wedge(180, 270))
+
+
+class Scene:
+    """A robot's artists on one Axes, moved to configuration ``k`` by ``show(k)``.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+    desc : Description
+    geo : Geometry
+        Positions (m) over every configuration to be shown; the limits cover them all.
+    labels : bool
+        Name joints and points, and add a legend (the still drawing); off for animations.
+    """
+
+    def __init__(self, ax, desc: Description, geo: Geometry, labels: bool = True):
+        self.ax, self.desc, self.labels = ax, desc, labels
+        self.pts = {k: v * MM for k, v in geo.points.items()}
+        self.cgs = {k: v * MM for k, v in geo.cgs.items()}
+        low, high = (c * MM for c in geo.extent())
+        self.span = float(max(high - low))
+        high = np.maximum(high, 0.15 * self.span)  # room for the base frame's arrows
+        # each side at least 60 % of the other: a straight arm is not drawn in a sliver
+        half = np.maximum(high - low, 0.6 * self.span) / 2 + 0.12 * self.span
+        mid = (low + high) / 2
+        ax.set_xlim(mid[0] - half[0], mid[0] + half[0])
+        ax.set_ylim(mid[1] - half[1], mid[1] + half[1])
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (mm)")
+        ax.set_ylabel("y (mm)")
+        ax.grid(True, alpha=0.3)
+        self.moving: list[tuple[object, np.ndarray]] = []  # artist, positions (N, k, 2) mm
+        self._ground()
+        self._base_frame()
+        self._bodies()
+        self._joints()
+        self._cgs_and_task()
+        if labels:
+            self._legend()
+        self.show(0)
+
+    # -- artists ----------------------------------------------------------------------------
+    def _ground(self) -> None:
+        from matplotlib.patches import Polygon
+
+        s = 0.035 * self.span  # ground symbol size, mm: scales with the robot
+        for j in self.desc.tree_joints:
+            if j.parent == GROUND:
+                x, y = self.pts[(GROUND, j.parent_point)][0]
+                self.ax.add_patch(Polygon([(x, y), (x - s, y - 1.5 * s), (x + s, y - 1.5 * s)],
+                                          closed=True, facecolor="none", edgecolor="dimgray",
+                                          hatch="///", lw=1.0, zorder=1))
+
+    def _base_frame(self) -> None:
+        length = 0.15 * self.span  # mm; the limits leave room for it
+        for tip, name, colour in (((length, 0), "x", "tab:red"), ((0, length), "y", "tab:green")):
+            self.ax.annotate("", xy=tip, xytext=(0, 0), zorder=4, arrowprops={
+                "arrowstyle": "-|>", "color": colour, "lw": 1.6, "shrinkA": 0, "shrinkB": 0})
+            self.ax.annotate(f"{name}0", xy=tip, xytext=(3, 3), textcoords="offset points",
+                             color=colour, fontsize=8, zorder=4)
+
+    def _bodies(self) -> None:
+        from matplotlib.patches import Polygon
+
+        colours = iter(["tab:blue", "tab:orange", "tab:purple", "tab:brown", "tab:olive",
+                        "tab:cyan", "tab:pink", "tab:gray"] * 4)
+        for name, body in self.desc.bodies.items():
+            if name == GROUND:
+                continue
+            order, plate = outline(body.points_m)
+            if len(order) == 1:  # a welded point mass (motor): a square block
+                art, = self.ax.plot([], [], "s", ms=13, color="dimgray", zorder=3)
+            elif plate:
+                art = self.ax.add_patch(Polygon(np.zeros((len(order), 2)), closed=True,
+                                                alpha=0.5, facecolor=next(colours),
+                                                edgecolor="black", zorder=3))
+            else:
+                art, = self.ax.plot([], [], "-", lw=7, alpha=0.8, color=next(colours),
+                                    solid_capstyle="round", zorder=3)
+            art.set_gid(f"body:{name}")
+            self._move(art, *[self.pts[(name, p)] for p in order])
+
+    def _joints(self) -> None:
+        style = {"actuated": {"mfc": "black", "mec": "black"},
+                 "passive": {"mfc": "white", "mec": "black"},
+                 "cut": {"mfc": "white", "mec": "red"}}
+        for name, key, role in joint_roles(self.desc):
+            art, = self.ax.plot([], [], "o", ms=9, mew=1.6, zorder=5, **style[role])
+            art.set_gid(f"joint:{name}")
+            self._move(art, self.pts[key])
+            if role == "cut":
+                cross, = self.ax.plot([], [], "x", ms=6, mew=1.4, color="red", zorder=6)
+                self._move(cross, self.pts[key])
+            if self.labels:
+                self._label(f"{name} (cut)" if role == "cut" else name, key)
+
+    def _cgs_and_task(self) -> None:
+        for name in self.cgs:
+            ring, = self.ax.plot([], [], "o", ms=9, mfc="white", mec="black", zorder=6)
+            quarters, = self.ax.plot([], [], marker=_cg_marker(), ms=9, ls="", color="black",
+                                     zorder=7)
+            ring.set_gid(f"cg:{name}")
+            self._move(ring, self.cgs[name])
+            self._move(quarters, self.cgs[name])
+        task = self.desc.task_point
+        art, = self.ax.plot([], [], "*", ms=15, color="crimson", mec="black", zorder=8)
+        art.set_gid("task")
+        self._move(art, self.pts[task])
+        if self.labels:
+            for key, text in point_labels(self.desc).items():
+                self._label(f"{text} (task)" if key == task else text, key)
+
+    def _label(self, text: str, key: tuple[str, str]) -> None:
+        ann = self.ax.annotate(text, xy=self.pts[key][0], xytext=(6, 6), fontsize=8, zorder=9,
+                               textcoords="offset points",
+                               bbox={"boxstyle": "round,pad=0.15", "fc": "white",
+                                     "alpha": 0.7, "lw": 0})
+        self._move(ann, self.pts[key])
+
+    def _legend(self) -> None:
+        from matplotlib.lines import Line2D
+
+        def mark(**kw):
+            return Line2D([], [], ls="", **{"marker": "o", "ms": 8, **kw})
+
+        handles = [mark(mfc="black", mec="black"), mark(mfc="white", mec="black"),
+                   (mark(mfc="white", mec="red"), mark(marker="x", ms=5, color="red")),
+                   (mark(mfc="white", mec="black"), mark(marker=_cg_marker(), color="black")),
+                   mark(marker="*", ms=12, color="crimson", mec="black")]
+        names = ["actuated joint", "passive joint", "cut joint (loop closure)",
+                 "centre of gravity", "task point"]
+        self.ax.legend(handles, names, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                       fontsize=8, frameon=False)
+
+    # -- motion -----------------------------------------------------------------------------
+    def _move(self, art, *tracks: np.ndarray) -> None:
+        """Register ``art`` to follow ``tracks`` (each (N, 2) mm: one per vertex or marker)."""
+        self.moving.append((art, np.stack(tracks, axis=1)))
+
+    def show(self, k: int) -> list:
+        """Move every artist to configuration ``k``; returns the artists changed."""
+        for art, xy in self.moving:
+            if hasattr(art, "set_xy"):
+                art.set_xy(xy[k])
+            elif hasattr(art, "set_data"):
+                art.set_data(xy[k, :, 0], xy[k, :, 1])
+            else:  # an annotation: its anchor moves, the text offset stays
+                art.xy = tuple(xy[k, 0])
+        return [art for art, _ in self.moving]
+
+
+def drawing_figure(robot_name: str, q=None):
+    """A robot drawn at one configuration (default: the drawn one, ``robot.q_drawn``).
+
+    Parameters
+    ----------
+    robot_name : str
+        A built-in robot (or one on ``PLANAR_SYM_GENERATED``).
+    q : array_like, shape (n,), optional
+        Every coordinate (rad).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from .description import load as load_description
+    from .dynamics import load
+    from .plots import new_figure, tight
+
+    desc = load_description(robot_name)  # first: names the known robots if this is not one
+    robot = load(robot_name)
+    which = "drawn configuration" if q is None else "configuration"
+    q = robot.q_drawn if q is None else np.asarray(q, dtype=float)
+    geo = geometry(desc, robot.body_names, robot.frames(q[None, :]))
+    fig = new_figure((8.0, 6.0))
+    ax = fig.add_subplot()
+    Scene(ax, desc, geo, labels=True)
+    angles = ", ".join(f"{c} {np.degrees(v):.2f}" for c, v in zip(robot.coordinates, q))
+    ax.set_title(f"{robot.name}: {which}\n{robot.title}\nq (deg): {angles}", fontsize=8)
+    tight(fig)
+    return fig
+

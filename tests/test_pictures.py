@@ -1,0 +1,361 @@
+"""Pictures: ``draw``, ``animate``, ``run --split``, ``demo`` and ``Result.plot``.
+
+Every picture is checked by numbers: the drawing's markers against the description's own
+drawn-configuration coordinates (read from the TOML, not through the runtime), GIF frame counts
+and image sizes, the torque split against the total torques and against virtual work, and the
+demo index against its CSV files.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ALL_ROBOTS, CLOSED, ROBOTS_DIR
+from PIL import Image
+
+from planar_sym.cli import main
+from planar_sym.closed_chain import complete_rates
+from planar_sym.description import load as load_description
+from planar_sym.drawing import drawing_figure, geometry
+from planar_sym.dynamics import load
+from planar_sym.errors import PlanarSymError
+from planar_sym.scenarios import SCENARIOS, SPLIT_PARTS, motion, run
+from planar_sym.units import factor
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def png_size(path: Path) -> tuple[int, int]:
+    """Width and height (pixels) from a PNG's IHDR chunk; checks the signature first."""
+    data = path.read_bytes()
+    assert data[:8] == PNG_SIGNATURE, f"{path} is not a PNG"
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
+def toml_world(robot: str) -> tuple[dict, dict]:
+    """Drawn-configuration world points and centres of gravity (m), straight from the TOML."""
+    raw = tomllib.loads((ROBOTS_DIR / f"{robot}.toml").read_text())
+    unit = factor("length", raw["units"]["length"])
+    points = {("ground", p): np.array(xy) * unit for p, xy in raw["ground"]["points"].items()}
+    cgs = {}
+    for b in raw["bodies"]:
+        pts = {p: np.array(xy) * unit for p, xy in b["points"].items()}
+        points.update({(b["name"], p): xy for p, xy in pts.items()})
+        base = np.zeros(2) if b["cg_from"] == "world" else pts[b["cg_from"]]
+        cgs[b["name"]] = base + np.array(b["cg"]) * unit
+    return points, cgs
+
+
+def artists(fig) -> dict[str, object]:
+    return {a.get_gid(): a for a in fig.axes[0].get_children() if a.get_gid()}
+
+
+# -- the geometry behind every picture ------------------------------------------------------
+
+@pytest.mark.parametrize("robot", ALL_ROBOTS)
+def test_world_points_of_the_drawn_configuration_are_the_descriptions(robot):
+    r = load(robot)
+    geo = geometry(load_description(robot), r.body_names, r.frames(r.q_drawn))
+    points, cgs = toml_world(robot)
+    assert set(geo.points) == set(points)
+    for key, xy in points.items():
+        assert np.max(np.abs(geo.points[key][0] - xy)) < 1e-12, key
+    for body, xy in cgs.items():
+        assert np.max(np.abs(geo.cgs[body][0] - xy)) < 1e-12, body
+
+
+@pytest.mark.parametrize("robot", ALL_ROBOTS)
+def test_drawing_markers_sit_on_the_described_points(robot):
+    desc = load_description(robot)
+    points, cgs = toml_world(robot)
+    fig = drawing_figure(robot)
+    arts = artists(fig)
+    ax = fig.axes[0]
+    colours = {"actuated": "black", "passive": "white"}
+    for j in (*desc.tree_joints, *desc.loop_joints):
+        if j.type != "revolute":
+            continue
+        marker = arts[f"joint:{j.name}"]
+        xy_mm = np.column_stack(marker.get_data())[0]
+        assert np.max(np.abs(xy_mm - points[(j.parent, j.parent_point)] * 1e3)) < 1e-9
+        assert np.max(np.abs(xy_mm - points[(j.child, j.child_point)] * 1e3)) < 1e-2  # closes
+        role = "cut" if j.closes_loop else "actuated" if j.actuated else "passive"
+        if role == "cut":
+            assert marker.get_markeredgecolor() == "red"
+        else:
+            assert marker.get_markerfacecolor() == colours[role]
+    for body, xy in cgs.items():
+        got = np.column_stack(arts[f"cg:{body}"].get_data())[0]
+        assert np.max(np.abs(got - xy * 1e3)) < 1e-9
+    task = np.column_stack(arts["task"].get_data())[0]
+    assert np.max(np.abs(task - points[desc.task_point] * 1e3)) < 1e-9
+    texts = {t.get_text() for t in ax.texts}
+    assert {j.name for j in desc.tree_joints if j.type == "revolute"} <= texts
+    assert robot in ax.get_title()
+    assert ax.get_xlabel() == "x (mm)" and ax.get_ylabel() == "y (mm)"
+    assert ax.get_aspect() == 1.0
+
+
+def test_link_with_three_points_is_drawn_through_them_in_order():
+    points, _ = toml_world("five_bar_type1")
+    line = artists(drawing_figure("five_bar_type1"))["body:L_Link2"]
+    want = np.array([points[("L_Link2", p)] for p in ("CS1", "CS2", "CS3")]) * 1e3  # B, C, P
+    assert np.max(np.abs(np.column_stack(line.get_data()) - want)) < 1e-9
+
+
+# -- draw --------------------------------------------------------------------------------
+
+def test_draw_command_writes_a_png_of_the_figure_size(tmp_path, capsys):
+    out = tmp_path / "five.png"
+    assert main(["draw", "five_bar_type1", "--out", str(out)]) == 0
+    assert png_size(out) == (800, 600)  # 8 x 6 in at 100 dpi
+    assert str(out) in capsys.readouterr().out
+    assert main(["--quiet", "draw", "parallel_3rrr", "--out", str(out), "--dpi", "50"]) == 0
+    assert png_size(out) == (400, 300)
+    assert capsys.readouterr().out == ""
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["five.png"]  # no temporary files
+
+
+def test_draw_errors_write_nothing(tmp_path, capsys):
+    assert main(["draw", "no_such_robot", "--out", str(tmp_path / "x.png")]) == 2
+    assert "unknown robot" in capsys.readouterr().err
+    assert main(["draw", "serial_2dof", "--out", str(tmp_path / "x.jpg")]) == 2
+    assert ".png" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_draw_failing_midway_leaves_the_old_file(tmp_path, monkeypatch, capsys):
+    from matplotlib.figure import Figure
+
+    out = tmp_path / "arm.png"
+    out.write_bytes(b"previous picture")
+
+    def failing(self, path, **kw):
+        Path(path).write_bytes(PNG_SIGNATURE + b"half")
+        raise PlanarSymError("simulated failure while drawing")
+
+    monkeypatch.setattr(Figure, "savefig", failing)
+    assert main(["draw", "serial_2dof", "--out", str(out)]) == 2
+    assert "simulated failure" in capsys.readouterr().err
+    assert [p.name for p in tmp_path.iterdir()] == ["arm.png"]
+    assert out.read_bytes() == b"previous picture"
+
+
+# -- animate -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name, frames", [("five_bar_type1_move_x", 4),
+                                          ("serial_2dof_free_swing", 3)])
+def test_animate_gif_has_every_frame(tmp_path, name, frames):
+    out = tmp_path / "a.gif"
+    assert main(["--quiet", "animate", name, "--out", str(out), "--frames", str(frames),
+                 "--fps", "10"]) == 0
+    with Image.open(out) as im:
+        assert im.format == "GIF"
+        assert im.n_frames == frames
+        assert im.size == (448, 368)  # 5.6 x 4.6 in at 80 dpi
+        assert im.info["duration"] == 100  # ms per frame at 10 fps
+    assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
+
+
+def test_animation_motion_is_the_simulation_and_the_full_trajectory():
+    robot, t, q = motion("serial_2dof_free_swing", 11)
+    res = run("serial_2dof_free_swing", 11)
+    assert np.array_equal(t, res.columns["t"])
+    assert np.max(np.abs(q - np.column_stack([res.columns["q1"], res.columns["q2"]]))) < 1e-12
+    robot, t, q = motion("five_bar_type1_move_x", 11)
+    res = run("five_bar_type1_move_x", 11)
+    assert q.shape == (11, 4)  # passive joints B and D too
+    assert np.max(np.abs(robot.constraint(q))) < 1e-9
+    for k, i in enumerate(robot.actuated):
+        assert np.max(np.abs(q[:, i] - res.columns[f"q{k + 1}"])) < 1e-12
+
+
+def test_animate_mp4_needs_ffmpeg(tmp_path, capsys):
+    out = tmp_path / "a.mp4"
+    code = main(["--quiet", "animate", "serial_2dof_joint_move", "--out", str(out),
+                 "--frames", "3"])
+    if shutil.which("ffmpeg"):
+        assert code == 0 and out.stat().st_size > 0
+    else:
+        assert code == 2
+        assert "ffmpeg" in capsys.readouterr().err
+        assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["no_such_scenario"], "unknown scenario"),
+    (["serial_2dof_joint_move", "--frames", "1"], "frames"),
+    (["serial_2dof_joint_move", "--fps", "0"], "fps"),
+    (["serial_2dof_joint_move", "--out", "a.avi"], ".gif")])
+def test_animate_bad_requests(tmp_path, monkeypatch, capsys, argv, message):
+    monkeypatch.chdir(tmp_path)
+    assert main(["animate", *argv]) == 2
+    assert message in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_animate_failing_midway_leaves_the_old_file(tmp_path, monkeypatch, capsys):
+    from matplotlib.animation import PillowWriter
+
+    out = tmp_path / "a.gif"
+    out.write_bytes(b"previous animation")
+    real, grabbed = PillowWriter.grab_frame, []
+
+    def fails_on_second(self, **kw):
+        grabbed.append(1)
+        if len(grabbed) == 2:
+            Path(self.outfile).write_bytes(b"GIF89a partial")
+            raise PlanarSymError("simulated failure at frame 2")
+        real(self, **kw)
+
+    monkeypatch.setattr(PillowWriter, "grab_frame", fails_on_second)
+    assert main(["animate", "serial_2dof_joint_move", "--out", str(out), "--frames", "4"]) == 2
+    assert "frame 2" in capsys.readouterr().err
+    assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
+    assert out.read_bytes() == b"previous animation"
+
+
+# -- the torque split --------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", list(SCENARIOS))
+def test_split_parts_sum_to_the_torques(name):
+    res = run(name, 21)
+    parts = [res.split[k] for k in SPLIT_PARTS]
+    total = sum(parts)
+    taus = [k for k in res.columns if re.fullmatch(r"tau\d+", k)]
+    if taus:
+        want = np.column_stack([res.columns[k] for k in taus])
+    else:  # the free swing: tau = 0, the parts balance
+        want = np.zeros_like(total)
+        assert max(np.max(np.abs(p)) for p in parts) > 0.01  # and are not all zero
+    assert total.shape == want.shape
+    assert np.max(np.abs(total - want)) < 1e-12
+
+
+def test_split_gravity_of_the_2dof_arm_by_hand():
+    """g(q) of the textbook 2-DOF arm written out by hand; the velocity part at qd = 0."""
+    arm = load("serial_2dof")
+    p = arm.parameters
+    rng = np.random.default_rng(4)
+    q = rng.uniform(-np.pi, np.pi, (7, 2))
+    zero = np.zeros_like(q)
+    from planar_sym.scenarios import torque_split
+
+    parts = torque_split(arm, q, zero, zero)
+    m1, m_m, m2 = p["m_link1"], p["m_motor2"], p["m_link2"]
+    a1, lc1, lc2, g = p["px_link1_CS2"], p["cgx_link1"], p["cgx_link2"], p["g"]
+    g2 = m2 * lc2 * g * np.cos(q[:, 0] + q[:, 1])
+    g1 = (m1 * lc1 + (m_m + m2) * a1) * g * np.cos(q[:, 0]) + g2
+    assert np.max(np.abs(parts["gravity"] - np.column_stack([g1, g2]))) < 1e-14
+    assert np.max(np.abs(parts["inertial"])) == 0.0 and np.max(np.abs(parts["velocity"])) < 1e-15
+
+
+@pytest.mark.parametrize("robot", CLOSED)
+def test_closed_chain_split_by_virtual_work(robot):
+    """Each part's actuated torques do the same virtual work as the part itself:
+    tau_part[k] = part . v_k, with v_k the loop-consistent velocity of unit actuated rate k."""
+    name = {"five_bar_type1": "five_bar_type1_move_y", "five_bar_type2": "five_bar_type2_move_x",
+            "parallel_3rrr": "parallel_3rrr_move_x"}[robot]
+    from planar_sym.scenarios import get, joint_motion, torque_split
+
+    r = load(robot)
+    jt, _ = joint_motion(get(name), r, np.linspace(0.0, get(name).duration_s, 9))
+    parts = torque_split(r, jt.q, jt.qd, jt.qdd)
+    n_s, n = jt.q.shape
+    mass = r.mass_matrix(jt.q).reshape(n_s, n, n)
+    h, g = r.bias(jt.q, jt.qd), r.gravity(jt.q)
+    raw = {"inertial": (mass @ jt.qdd[..., None])[..., 0], "velocity": h - g, "gravity": g}
+    zeros = np.zeros((n_s, len(r.actuated)))
+    for k in range(len(r.actuated)):
+        unit = zeros.copy()
+        unit[:, k] = 1.0
+        v, _ = complete_rates(r, jt.q, unit, zeros)
+        for part, value in raw.items():
+            work = np.sum(value * v, axis=1)
+            assert np.max(np.abs(parts[part][:, k] - work)) < 1e-12 * max(1, np.max(np.abs(work)))
+
+
+# -- run --split and Result.plot ---------------------------------------------------------
+
+def test_run_split_writes_three_files(tmp_path):
+    out = tmp_path / "res"
+    assert main(["--quiet", "run", "parallel_3rrr_move_y", "--out", str(out), "--samples", "11",
+                 "--split"]) == 0
+    name = "parallel_3rrr_move_y"
+    assert sorted(p.name for p in out.iterdir()) == [f"{name}.csv", f"{name}.png",
+                                                     f"{name}_split.png"]
+    assert png_size(out / f"{name}_split.png") == (770, 737)  # 7 x (1 + 1.9 * 3) in at 110 dpi
+
+
+def test_result_plot_returns_figures():
+    res = run("five_bar_type2_move_x", 11)
+    fig = res.plot()
+    assert [ax.get_ylabel() for ax in fig.axes] == ["torque tau1 (N*m)", "torque tau2 (N*m)"]
+    fig = res.plot(split=True)
+    assert len(fig.axes) == 2
+    for k, ax in enumerate(fig.axes):
+        lines = ax.get_lines()[:4]
+        assert [ln.get_label() for ln in lines] == [f"tau{k + 1} (total)", "M qdd", "C qd", "g"]
+        ys = [ln.get_ydata() for ln in lines]
+        assert np.max(np.abs(ys[1] + ys[2] + ys[3] - ys[0])) < 1e-12
+    assert fig.axes[-1].get_xlabel() == "time t (s)"
+    swing = run("serial_2dof_free_swing", 11)
+    assert swing.plot().axes[0].get_ylabel() == "joint angle q1 (deg)"
+    assert len(swing.plot(split=True).axes) == 2
+
+
+# -- demo --------------------------------------------------------------------------------
+
+def test_demo_writes_everything_and_an_index(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert main(["demo", "--out", str(out), "--samples", "5", "--frames", "2"]) == 0
+    progress = capsys.readouterr().err.strip().splitlines()
+    robots = ALL_ROBOTS
+    assert len(progress) == 2 * len(SCENARIOS) + len(robots) + 1  # one line per item
+    assert progress[-1].startswith(f"[{len(progress)}/{len(progress)}] index")
+    index = (out / "README.md").read_text()
+    for name in SCENARIOS:
+        row = next(line for line in index.splitlines() if line.startswith(f"| `{name}` |"))
+        for target in re.findall(r"\]\(([^)]+)\)", row):
+            assert (out / target).is_file(), target
+        assert SCENARIOS[name].summary in row
+        table = np.genfromtxt(out / f"{name}.csv", delimiter=",", names=True)
+        taus = [k for k in table.dtype.names if re.fullmatch(r"tau\d+", k)]
+        found = dict(re.findall(r"(tau\d+) = ([-+0-9.e]+)", row))
+        assert sorted(found) == sorted(taus)
+        for k in taus:
+            assert float(found[k]) == pytest.approx(np.max(np.abs(table[k])), rel=1e-5)
+        with Image.open(out / f"{name}.gif") as im:
+            assert im.n_frames == 2
+        assert png_size(out / f"{name}_split.png")[0] == 770
+    for robot in robots:
+        assert f"[{robot}.png]({robot}.png)" in index
+        assert png_size(out / f"{robot}.png") == (800, 600)
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporary files
+
+
+def test_demo_failing_midway_leaves_no_partial_file(tmp_path, monkeypatch, capsys):
+    from planar_sym.commands import animate
+
+    real, calls = animate.write_animation, []
+
+    def second_fails(name, path, **kw):
+        calls.append(name)
+        if len(calls) == 2:
+            raise PlanarSymError("simulated failure in an animation")
+        return real(name, path, **kw)
+
+    monkeypatch.setattr(animate, "write_animation", second_fails)
+    out = tmp_path / "demo"
+    assert main(["--quiet", "demo", "--out", str(out), "--samples", "5", "--frames", "2"]) == 2
+    assert "simulated failure" in capsys.readouterr().err
+    first, second = list(SCENARIOS)[:2]
+    written = sorted(p.name for p in out.iterdir())
+    assert written == sorted([f"{first}.csv", f"{first}.png", f"{first}_split.png",
+                              f"{first}.gif", f"{second}.csv", f"{second}.png",
+                              f"{second}_split.png"])  # complete files only, no index
