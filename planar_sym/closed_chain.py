@@ -112,17 +112,24 @@ def inverse_dynamics(robot: Robot, q, qd, qdd, t=None) -> tuple[np.ndarray, np.n
     the constraints (use ``complete_rates`` or the inverse kinematics).
     Returns tau (N, actuated) and lambda (N, 2 * loops: x, y per cut joint).
     """
-    act, _ = partition(robot)
+    n_act = len(partition(robot)[0])
     q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
                                                                    ("qdd", qdd)))
     b = robot.tree_inverse_dynamics(q, qd, qdd).reshape(len(q), robot.n)
-    jac = robot.constraint_jacobian(q).reshape(len(q), robot.n_constraints, robot.n)
-    a = np.zeros((len(q), robot.n, robot.n))
+    sol = np.linalg.solve(actuation_matrix(robot, q, t), b[..., None])[..., 0]
+    return sol[:, :n_act], sol[:, n_act:]
+
+
+def actuation_matrix(robot: Robot, q: np.ndarray, t=None) -> np.ndarray:
+    """``[S^T Phi_q^T]`` at each sample, shape (N, n, n); refuses a singular pose by time."""
+    act, _ = partition(robot)
+    n_s, n = len(q), robot.n
+    jac = robot.constraint_jacobian(q).reshape(n_s, robot.n_constraints, n)
+    a = np.zeros((n_s, n, n))
     a[:, act, np.arange(len(act))] = 1.0
     a[:, :, len(act):] = jac.transpose(0, 2, 1)
     _check_cond(robot, a, "actuation matrix [S^T Phi_q^T]", t)
-    sol = np.linalg.solve(a, b[..., None])[..., 0]
-    return sol[:, :len(act)], sol[:, len(act):]
+    return a
 
 
 def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> JointTrajectory:

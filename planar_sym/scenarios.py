@@ -183,17 +183,12 @@ def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
 
 def _through_actuation(robot: Robot, q: np.ndarray, terms: np.ndarray, t) -> np.ndarray:
     """Actuated-torque share of each column of ``terms`` (N, n, parts), as in closed_chain."""
-    from .closed_chain import _check_cond, partition
+    from .closed_chain import actuation_matrix
 
-    act, _ = partition(robot)
-    n_s, n = q.shape
-    jac = robot.constraint_jacobian(q).reshape(n_s, robot.n_constraints, n)
-    a = np.zeros((n_s, n, n))
-    a[:, act, np.arange(len(act))] = 1.0
-    a[:, :, len(act):] = jac.transpose(0, 2, 1)
-    _check_cond(robot, a, "actuation matrix [S^T Phi_q^T]", t)
+    a = actuation_matrix(robot, q, t)
+    n_act = len(robot.actuated)
     # one solve for all parts: the multipliers' shares are dropped, torques kept
-    return np.linalg.solve(a, terms)[:, :len(act), :]
+    return np.linalg.solve(a, terms)[:, :n_act, :]
 
 
 def motion(name: str, samples: int) -> tuple[Robot, np.ndarray, np.ndarray]:
