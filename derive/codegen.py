@@ -208,6 +208,9 @@ def render(model: Model) -> dict[str, bytes]:
         f"{name}.h": h_src.encode(),
         "equations.txt": (_text_header(model, "equations.txt", digest) + eq["text"]).encode(),
         "equations.tex": (_text_header(model, "equations.tex", digest, "%") + eq["latex"]).encode(),
+        # the same header as an HTML comment: hidden when GitHub renders the Markdown
+        "equations.md": ("<!--\n" + _text_header(model, "equations.md", digest, " ").rstrip()
+                         + "\n-->\n\n" + eq["markdown"]).encode(),
     }
     files["manifest.json"] = _manifest(model, gens, digest, files)
     return files

@@ -11,11 +11,12 @@ needed only to derive new equations (``derive/``).
 from __future__ import annotations
 
 from .dynamics import Robot, load
+from .equations import Equations, equations
 from .errors import (DescriptionError, InputError, LibraryError, PlanarSymError,
                      SimulationError, WorkspaceError)
 from .trajectory import Trajectory, cubic
 
-__all__ = ["Robot", "load", "cubic", "Trajectory", "simulate", "inverse_kinematics",
+__all__ = ["Robot", "load", "equations", "Equations", "cubic", "Trajectory", "simulate", "inverse_kinematics",
            "run_scenario", "SCENARIOS", "validate", "DescriptionError", "InputError", "LibraryError",
            "PlanarSymError", "SimulationError", "WorkspaceError"]
 __version__ = "0.1.0"

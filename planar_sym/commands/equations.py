@@ -1,4 +1,4 @@
-"""``planar-sym equations``: a robot's closed-form equations, as derived (no SymPy needed)."""
+"""``planar-sym equations``: a robot's equation report, as derived (no SymPy needed)."""
 
 from __future__ import annotations
 
@@ -6,18 +6,18 @@ import sys
 
 
 def register(sub) -> None:
-    p = sub.add_parser("equations", help="print a robot's closed-form equations of motion")
+    p = sub.add_parser("equations", help="print a robot's equations of motion (text, LaTeX, "
+                       "Markdown)")
     p.add_argument("robot")
-    p.add_argument("--latex", action="store_true", help="LaTeX instead of text")
+    p.add_argument("--format", choices=("text", "latex", "markdown"), default="text",
+                   help="text for the terminal (default), a LaTeX document, or GitHub Markdown")
+    p.add_argument("--latex", dest="format", action="store_const", const="latex",
+                   help="same as --format latex")
     p.set_defaults(fn=run)
 
 
 def run(args) -> int:
-    from ..library import find_generated
+    from ..equations import equations
 
-    folder = find_generated(args.robot)
-    name = "equations.tex" if args.latex else "equations.txt"
-    text = (folder / name).read_text()
-    body = text.split("\n\n", 1)[1] if text.startswith(("#", "%")) else text
-    sys.stdout.write(body)
+    sys.stdout.write(equations(args.robot).format(args.format))
     return 0

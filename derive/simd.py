@@ -1,0 +1,82 @@
+"""Vectorisable sample loops: CasADi's own CSE'd instruction list printed as straight-line C.
+
+CasADi's generated functions evaluate one sample through a work array; called in a loop they
+cost ~60 ns per 2-DOF sample, mostly scalar sin/cos. Here the same algorithm (the SX
+instructions of the same CasADi function, so the same operations in the same order) is
+printed as ``const double`` locals inside a loop over samples, which gcc vectorises across
+samples with ``-O3 -march=native -ffast-math``, calling glibc's vector sin/cos (libmvec).
+
+Two details make or break that vectorisation:
+
+* ``cos(x)`` is printed as ``sin(x + pi/2)``: gcc fuses a ``sin``/``cos`` pair of one argument
+  into ``sincos``, which has no vector variant, and that one call blocks the whole loop;
+* inputs and outputs keep the runtime's row-major ``(N, size)`` layout (strided loads cost less
+  than transposing the arrays first), matrices written row-major so no transpose follows.
+
+Every loop has one signature, so the runtime can call any of them the same way:
+``int <robot>_<quantity>_loop(long long n, const double *const *in, double *const *out)``.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+
+_BINARY = {ca.OP_ADD: "({} + {})", ca.OP_SUB: "({} - {})", ca.OP_MUL: "({} * {})",
+           ca.OP_DIV: "({} / {})", ca.OP_POW: "pow({}, {})", ca.OP_CONSTPOW: "pow({}, {})",
+           ca.OP_ATAN2: "atan2({}, {})", ca.OP_FMIN: "fmin({}, {})", ca.OP_FMAX: "fmax({}, {})"}
+_UNARY = {ca.OP_NEG: "(-{})", ca.OP_SIN: "sin({})", ca.OP_COS: "sin({} + M_PI_2)",
+          ca.OP_TAN: "tan({})", ca.OP_SQ: "({0} * {0})", ca.OP_SQRT: "sqrt({})",
+          ca.OP_TWICE: "(2.0 * {})", ca.OP_INV: "(1.0 / {})", ca.OP_FABS: "fabs({})",
+          ca.OP_EXP: "exp({})", ca.OP_LOG: "log({})", ca.OP_ASSIGN: "{}"}
+
+PRELUDE = """#include <math.h>
+#ifndef M_PI_2
+#define M_PI_2 1.57079632679489661923
+#endif
+#if defined(_WIN32)
+#define PLANAR_SYM_EXPORT __declspec(dllexport)
+#else
+#define PLANAR_SYM_EXPORT __attribute__((visibility("default")))
+#endif
+"""
+
+
+def _row_major(f: ca.Function, out: int, nz: int) -> int:
+    """Index of dense column-major nonzero ``nz`` of output ``out`` in row-major order."""
+    rows, cols = f.size1_out(out), f.size2_out(out)
+    return (nz % rows) * cols + nz // rows
+
+
+def loop_source(f: ca.Function) -> str:
+    """C source of ``<name>_loop`` for a dense SX function; shared input ``p``."""
+    ins = [(f.name_in(i), f.nnz_in(i)) for i in range(f.n_in())]
+    outs = [f.nnz_out(i) for i in range(f.n_out())]
+    body, current = [], {}
+    for k in range(f.n_instructions()):
+        op, a, r = f.instruction_id(k), f.instruction_input(k), f.instruction_output(k)
+        if op == ca.OP_OUTPUT:
+            body.append(f"    o{r[0]}[s * {outs[r[0]]} + {_row_major(f, r[0], r[1])}] = "
+                        f"{current[a[0]]};")
+            continue
+        if op == ca.OP_INPUT:
+            name, size = ins[a[0]]
+            expr = f"i{a[0]}[{a[1]}]" if name == "p" else f"i{a[0]}[s * {size} + {a[1]}]"
+        elif op == ca.OP_CONST:
+            expr = repr(float(f.instruction_constant(k)))
+        elif op in _BINARY:
+            expr = _BINARY[op].format(current[a[0]], current[a[1]])
+        elif op in _UNARY:
+            expr = _UNARY[op].format(current[a[0]])
+        else:
+            raise NotImplementedError(f"{f.name()}: CasADi operation {op} has no C form here")
+        body.append(f"    const double t{k} = {expr};")
+        current[r[0]] = f"t{k}"
+    for o in range(f.n_out()):  # densified zeros are explicit constants, so every entry is set
+        if f.sparsity_out(o).nnz() != f.sparsity_out(o).numel():
+            raise ValueError(f"{f.name()}: output {o} is sparse; densify before generating loops")
+    decl = [f"  const double *restrict i{j} = in[{j}];" for j in range(len(ins))]
+    decl += [f"  double *restrict o{j} = out[{j}];" for j in range(len(outs))]
+    return (f"/* {f.name()} over n samples: in/out blocks row-major (n, size), p shared */\n"
+            f"PLANAR_SYM_EXPORT int {f.name()}_loop(long long n, const double *const *in, "
+            "double *const *out) {\n" + "\n".join(decl) + "\n  long long s;\n"
+            "  for (s = 0; s < n; ++s) {\n" + "\n".join(body) + "\n  }\n  return 0;\n}\n")
