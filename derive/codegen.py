@@ -17,6 +17,7 @@ import sympy as sp
 
 from planar_sym.description import Description
 
+from . import simd
 from .model import Model
 from .to_casadi import Translator
 
@@ -187,25 +188,16 @@ def render(model: Model) -> dict[str, bytes]:
                f'{{ return "{digest}"; }}\n')
     c_src = (_header_comment(model, f"{name}.c", digest) + body + "\n" + hash_fn + "\n"
              + "\n".join(_batch_wrapper(g) for g in gens))
-    h_lines = [f"#ifndef PLANAR_SYM_{name.upper()}_H", f"#define PLANAR_SYM_{name.upper()}_H",
-               "#ifndef casadi_real", "#define casadi_real double", "#endif",
-               "#ifndef casadi_int", "#define casadi_int long long int", "#endif",
-               f"const char *{name}_input_hash(void);"]
-    for g in gens:
-        f = g.function
-        args = ", ".join(["long long n"] + [f"const casadi_real *{f.name_in(i)}"
-                                            for i in range(f.n_in())]
-                         + [f"casadi_real *{f.name_out(i)}" for i in range(f.n_out())])
-        h_lines += [f"/* {g.doc} */",
-                    f"int {f.name()}(const casadi_real **arg, casadi_real **res, "
-                    "casadi_int *iw, casadi_real *w, int mem);",
-                    f"int {f.name()}_batch({args});"]
-    h_lines += ["#endif", ""]
-    h_src = _header_comment(model, f"{name}.h", digest) + "\n".join(h_lines)
+    h_src = _header_comment(model, f"{name}.h", digest) + _header(model, gens)
+    simd_src = (_header_comment(model, f"{name}_simd.c", digest) + simd.PRELUDE
+                + f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) '
+                  f'{{ return "{digest}"; }}\n\n'
+                + "\n".join(simd.loop_source(g.function) for g in gens))
     eq = printing.render(model)
     files = {
         f"{name}.c": c_src.encode(),
         f"{name}.h": h_src.encode(),
+        f"{name}_simd.c": simd_src.encode(),
         "equations.txt": (_text_header(model, "equations.txt", digest) + eq["text"]).encode(),
         "equations.tex": (_text_header(model, "equations.tex", digest, "%") + eq["latex"]).encode(),
         # the same header as an HTML comment: hidden when GitHub renders the Markdown
@@ -214,6 +206,33 @@ def render(model: Model) -> dict[str, bytes]:
     }
     files["manifest.json"] = _manifest(model, gens, digest, files)
     return files
+
+
+def _header(model: Model, gens: list[Generated]) -> str:
+    """The C header: sizes as macros, and every function's one-sample, batch and loop forms."""
+    name, up = model.desc.name, model.desc.name.upper()
+    lines = [f"#ifndef PLANAR_SYM_{up}_H", f"#define PLANAR_SYM_{up}_H",
+             "#ifndef casadi_real", "#define casadi_real double", "#endif",
+             "#ifndef casadi_int", "#define casadi_int long long int", "#endif",
+             f"#define {up}_N_Q {len(model.sym.q)}  /* coordinates */",
+             f"#define {up}_N_P {len(model.sym.p)}  /* parameters */",
+             f"const char *{name}_input_hash(void);"]
+    for g in gens:
+        f = g.function
+        args = ", ".join(["long long n"] + [f"const casadi_real *{f.name_in(i)}"
+                                            for i in range(f.n_in())]
+                         + [f"casadi_real *{f.name_out(i)}" for i in range(f.n_out())])
+        lines += [f"/* {g.doc} */",
+                  f"int {f.name()}(const casadi_real **arg, casadi_real **res, "
+                  "casadi_int *iw, casadi_real *w, int mem);",
+                  f"int {f.name()}_work(casadi_int *sz_arg, casadi_int *sz_res, "
+                  "casadi_int *sz_iw, casadi_int *sz_w);",
+                  f"const casadi_int *{f.name()}_sparsity_in(casadi_int i);",
+                  f"int {f.name()}_batch({args});",
+                  f"/* in {name}_simd.c: the same over n samples, vectorisable, outputs row-major */",
+                  f"int {f.name()}_loop(long long n, const double *const *in, "
+                  "double *const *out);"]
+    return "\n".join(lines + ["#endif", ""])
 
 
 def _text_header(model: Model, file: str, digest: str, mark: str = "#") -> str:
@@ -228,6 +247,7 @@ def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> 
         f = g.function
         funcs[g.quantity] = {
             "symbol": f.name(),
+            "loop": f.name() + "_loop",
             "doc": g.doc,
             "inputs": [[f.name_in(i), f.size1_in(i) * f.size2_in(i)] for i in range(f.n_in())],
             "outputs": [[f.name_out(i), f.size1_out(i), f.size2_out(i),

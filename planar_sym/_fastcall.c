@@ -45,11 +45,6 @@ static void caller_dealloc(Caller *self) {
     Py_TYPE(self)->tp_free((PyObject *)self);
 }
 
-static PyObject *bad_input(Caller *self, int i, const char *what) {
-    PyErr_Format(self->error, "%U %s", PyTuple_GET_ITEM(self->names, i), what);
-    return NULL;
-}
-
 static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                              PyObject *kwnames) {
     Py_ssize_t nargs = PyVectorcall_NARGS(nargsf);
@@ -73,7 +68,8 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                                                   NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
         if (!arr[i]) {
             PyErr_Clear();
-            bad_input(self, i, "must be a float array of shape (N, size) or (size,)");
+            PyErr_Format(self->error, "%U must be a float array of shape (N, %zd) or (%zd,)",
+                         PyTuple_GET_ITEM(self->names, i), self->in_size[i], self->in_size[i]);
             goto done;
         }
         int d = PyArray_NDIM(arr[i]);
@@ -86,8 +82,8 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
         }
         if (ndim < 0) { ndim = d; n = rows; }
         else if (d != ndim || rows != n) {
-            PyErr_Format(self->error, "%U has %zd samples, %U has %zd: they must match",
-                         PyTuple_GET_ITEM(self->names, 0), (Py_ssize_t)n,
+            PyErr_Format(self->error, "inputs must have the same number of samples, got "
+                         "%U: %zd, %U: %zd", PyTuple_GET_ITEM(self->names, 0), (Py_ssize_t)n,
                          PyTuple_GET_ITEM(self->names, i), (Py_ssize_t)rows);
             goto done;
         }

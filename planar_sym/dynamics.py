@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError, LibraryError
-from .library import Library, find_generated
+from .library import Library, fastcall, find_generated
 
 
 @dataclass(frozen=True)
@@ -50,7 +50,7 @@ class Robot:
     """Compiled dynamics of one robot; parameters are an input vector, changeable at will."""
 
     def __init__(self, name: str, library: Library | None = None,
-                 parameters: np.ndarray | None = None):
+                 parameters: np.ndarray | None = None, exact: bool | None = None):
         self.library = library or Library(name)
         m = self.library.manifest
         self.name = m["robot"]
@@ -66,6 +66,34 @@ class Robot:
         p = np.array([x.value for x in self.parameter_list]) if parameters is None else parameters
         self.p = as_samples("parameters", p, len(self.parameter_list))[0].copy()
         self._fns = self.library.functions
+        #: exact: CasADi's per-sample functions compiled without fast math. Otherwise the
+        #: hot methods below are C-level callers of the vectorised loops (same algorithm,
+        #: -ffast-math: agrees with the exact path to ~1e-15 relative, tested to 1e-12).
+        self.exact = (os.environ.get("PLANAR_SYM_EXACT") == "1") if exact is None else exact
+        if not self.exact:
+            self._bind_fast_paths()
+
+    def _bind_fast_paths(self) -> None:
+        fast = fastcall()
+        if fast is None or self.library.simd is None:
+            return
+        methods = {"mass_matrix": "mass_matrix", "bias": "bias", "gravity": "gravity",
+                   "tree_inverse_dynamics": "inverse_dynamics", "energy": "energy"}
+        if not self.is_closed_chain:
+            methods.update(inverse_dynamics="inverse_dynamics",
+                           forward_dynamics="forward_dynamics")
+        kinds = {"scalar": 0, "vector": 1, "matrix": 2}
+        for attr, quantity in methods.items():
+            spec = self.library.manifest["functions"][quantity]
+            ins = [(name, size) for name, size in spec["inputs"]]
+            names = tuple(name for name, _ in ins if name != "p")
+            caller = fast.make(
+                self.library.loop_address(quantity),
+                tuple(size for name, size in ins if name != "p"),
+                [name for name, _ in ins].index("p"),
+                tuple((rows, cols, kinds[kind]) for _, rows, cols, kind in spec["outputs"]),
+                self.p, InputError, names, getattr(type(self), attr).__doc__)
+            setattr(self, attr, caller)  # instance attribute: no Python frame per call
 
     @property
     def n(self) -> int:
@@ -88,7 +116,7 @@ class Robot:
                 raise InputError(f"unknown parameter {k!r} of {self.name}; known: "
                                  f"{', '.join(names)}")
             p[names.index(k)] = v
-        return Robot(self.name, self.library, p)
+        return Robot(self.name, self.library, p, exact=self.exact)
 
     # -- evaluation --------------------------------------------------------------------------
     def _call(self, quantity: str, **arrays) -> tuple[dict[str, np.ndarray], bool]:

@@ -18,6 +18,7 @@ import platform
 import shutil
 import subprocess
 import tempfile
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -248,6 +249,15 @@ class Library:
                                f"{self.manifest.get('robot')!r}, not {robot!r}: run `make derive`")
         self.path = build(self.folder, self.manifest)
         self.lib = self._load(self.path)
+        self.simd = None  # the vectorised sample loops, where this machine can build them
+        try:
+            simd_path = build_simd(self.folder, self.manifest)
+        except LibraryError as exc:
+            warnings.warn(f"{robot}: vectorised loops not built, using the exact path: {exc}",
+                          RuntimeWarning, stacklevel=2)
+            simd_path = None
+        if simd_path is not None:
+            self.simd = self._load(simd_path, f"{robot}_simd_input_hash")
         self.functions = {
             q: BatchFunction(self.lib, FunctionSpec(
                 f["symbol"], tuple(map(tuple, f["inputs"])), tuple(map(tuple, f["outputs"]))))
@@ -258,11 +268,18 @@ class Library:
         symbol = self.manifest["functions"][quantity]["symbol"] + "_batch"
         return ctypes.cast(getattr(self.lib, symbol), ctypes.c_void_p).value
 
-    def _load(self, path: Path) -> ctypes.CDLL:
+    def loop_address(self, quantity: str) -> int | None:
+        """Address of ``<robot>_<quantity>_loop`` (vectorised), or None without the library."""
+        spec = self.manifest["functions"][quantity]
+        if self.simd is None or "loop" not in spec:
+            return None
+        return ctypes.cast(getattr(self.simd, spec["loop"]), ctypes.c_void_p).value
+
+    def _load(self, path: Path, hash_symbol: str | None = None) -> ctypes.CDLL:
         robot, want = self.manifest["robot"], self.manifest["input_hash"]
         try:
             lib = ctypes.CDLL(str(path))
-            get = getattr(lib, f"{robot}_input_hash")
+            get = getattr(lib, hash_symbol or f"{robot}_input_hash")
         except (OSError, AttributeError) as exc:
             raise LibraryError(f"compiled library {path} is corrupt or not for {robot} ({exc}): "
                                f"delete it and run `make build`") from None

@@ -112,6 +112,15 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
             for quantity, fn in robot.library.functions.items()
             for out, value in fn(samples, {k: (robot.p if k == "p" else states[k])
                                            for k, _ in fn.spec.inputs}).items()}
+    if not robot.exact:  # the vectorised loops the robot's methods call, too
+        q, qd, qdd, tau = (states[k] for k in ("q", "qd", "qdd", "tau"))
+        fast = {"mass_matrix.M": robot.mass_matrix(q), "gravity.g": robot.gravity(q),
+                "bias.h": robot.bias(q, qd),
+                "inverse_dynamics.tau": robot.tree_inverse_dynamics(q, qd, qdd),
+                "energy.kinetic": robot.energy(q, qd)[0]}
+        if not robot.is_closed_chain:
+            fast["forward_dynamics.qdd"] = robot.forward_dynamics(q, qd, tau)
+        errs.update({f"fast {k}": rel_err(v, refs[k.split(".")[1]]) for k, v in fast.items()})
     where = _worst(errs)
     return row(name, errs[where], TOL_SYMBOLIC, f"worst: {where}; from {path}")
 
@@ -179,21 +188,32 @@ def lagrange_from_energy(robot: Robot, q, qd, qdd) -> dict[str, np.ndarray]:
     return {"M": M, "g": dV, "h": h, "tau": np.einsum("kij,kj->ki", M, qdd) + h}
 
 
+def compiled_paths(robot: Robot) -> list[tuple[str, Robot]]:
+    """Every compiled path a robot's methods may take: the exact CasADi functions and, where
+    the robot uses them, the vectorised fast loops (labelled 'fast')."""
+    exact = robot if robot.exact else Robot(robot.name, robot.library, robot.p, exact=True)
+    return [("", exact)] + ([] if robot.exact else [("fast ", robot)])
+
+
 def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
     q, qd, qdd, _ = random_states(robot, samples, seed)
     ref = lagrange_from_energy(robot, q, qd, qdd)
     fns = robot.library.functions
-    got = {"mass_matrix.M": (robot.mass_matrix(q), ref["M"]),
-           "gravity.g": (robot.gravity(q), ref["g"]),
-           "bias.h": (robot.bias(q, qd), ref["h"]),
-           "inverse_dynamics.tau": (robot.tree_inverse_dynamics(q, qd, qdd), ref["tau"])}
+    got = {}
+    for prefix, r in compiled_paths(robot):
+        got.update({f"{prefix}mass_matrix.M": (r.mass_matrix(q), ref["M"]),
+                    f"{prefix}gravity.g": (r.gravity(q), ref["g"]),
+                    f"{prefix}bias.h": (r.bias(q, qd), ref["h"]),
+                    f"{prefix}inverse_dynamics.tau": (r.tree_inverse_dynamics(q, qd, qdd),
+                                                      ref["tau"])})
+        if not robot.is_closed_chain:
+            got[f"{prefix}forward_dynamics.qdd"] = (r.forward_dynamics(q, qd, ref["tau"]), qdd)
     if robot.is_closed_chain:
         terms = fns["constrained_terms"](samples, {"q": q, "qd": qd, "p": robot.p})
         got.update({"constrained_terms.M": (terms["M"], ref["M"]),
                     "constrained_terms.h": (terms["h"], ref["h"])})
     else:
         tau = ref["tau"]
-        got["forward_dynamics.qdd"] = (robot.forward_dynamics(q, qd, tau), qdd)
         args = {"q": q, "qd": qd, "tau": tau, "p": robot.p}
         jac = fns["forward_dynamics_jacobian"](samples, args)
         eye = np.eye(robot.n)

@@ -64,7 +64,7 @@ def test_a_tampered_mass_matrix_fails_validation(tampered, capsys):
     assert main(["validate", str(tampered)]) == 1
     out = capsys.readouterr().out
     rows = _rows(out)
-    for label in ("(a)", "(b)"):  # both routes see it, and name the function
+    for label in ("(a)", "(b)"):  # both routes see it (the exact path), and name the function
         assert "FAIL" in rows[label][0] and "mass_matrix.M" in rows[label][0], out
     for label in ("(c)", "(d)"):  # these use energy and inverse dynamics: untouched
         assert "pass" in rows[label][0], out
@@ -105,3 +105,24 @@ def test_rows_as_functions():
     assert validate.check_symbolic(heavier, samples=3).status == "pass"
     bad = validate.row("x", 2e-3, 1e-3)
     assert bad.status == "FAIL" and validate.row("x", float("nan"), 1.0).status == "FAIL"
+
+
+def test_tampered_fast_loops_fail_validation(tmp_path, monkeypatch, capsys):
+    """The vectorised loops are a second compiled copy of every function: a wrong factor there
+    (2 a_1 l_c2 m_2 c2 -> 2.5 ... in the loop of the mass matrix) must be caught by 'fast' rows."""
+    monkeypatch.setenv("PLANAR_SYM_CACHE", str(tmp_path / "cache"))
+    folder = tmp_path / "serial_2dof"
+    shutil.copytree(GENERATED / "serial_2dof", folder)
+    src = folder / "serial_2dof_simd.c"
+    text = src.read_text()
+    start = text.index("serial_2dof_mass_matrix_loop(")
+    end = text.index("serial_2dof_bias_loop(")
+    body = text[start:end]
+    assert body.count("(2.0 * ") == 1, "the generated loop changed shape: update this test"
+    src.write_text(text[:start] + body.replace("(2.0 * ", "(2.5 * ") + text[end:])
+    manifest = json.loads((folder / "manifest.json").read_text())
+    manifest["files"]["serial_2dof_simd.c"] = hashlib.sha256(src.read_bytes()).hexdigest()
+    (folder / "manifest.json").write_text(json.dumps(manifest, indent=2))
+    assert main(["validate", str(folder)]) == 1
+    rows = _rows(capsys.readouterr().out)
+    assert "FAIL" in rows["(a)"][0] and "fast mass_matrix.M" in rows["(a)"][0]
