@@ -32,6 +32,12 @@ from .units import SI, factor
 #: tables carry six decimals, so its own rounding stays far below it.
 CLOSURE_TOLERANCE_M = 1e-5
 
+#: A radius of gyration sqrt(izz / m) more than this many times the body's extent (largest
+#: distance from the centre of gravity to one of its points) is an error: a uniform rod has
+#: 0.58 times, mass beyond its points (a housing, a wide link) rarely more than 2. Catches the
+#: seed's 3-RRR "90992 kg*mm^2" (28 times) and kg*mm^2 written where kg*m^2 was meant.
+GYRATION_LIMIT = 3.0
+
 #: Body-frame coordinates smaller than this (m) are exact zeros: rotating a point that lies on a
 #: link's axis into the link frame leaves ~1e-17 of rounding, which must not become a parameter.
 ZERO_SNAP_M = 1e-12
@@ -381,7 +387,28 @@ class _Validator:
         base = _to_body((0.0, 0.0), origin, angle) if cg_from == "world" else local[cg_from]
         off = _to_body(cg_world, (0.0, 0.0), angle)
         cg = _snap(base[0] + off[0]), _snap(base[1] + off[1])
-        return Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin)
+        body = Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin)
+        self._plausible(f, body, raw["izz"], self.data["units"].get("inertia"))
+        return body
+
+    def _plausible(self, f: str, body: Body, izz_given: float, unit: str) -> None:
+        """A body with extent needs inertia, and not more than its size allows."""
+        if body.mass_kg <= 0 or body.izz_kg_m2 < 0:
+            return  # reported already
+        extent = max(math.dist(body.cg_m, xy) for xy in body.points_m.values())
+        if extent < CLOSURE_TOLERANCE_M:
+            return  # a point mass (a motor at a joint): any izz >= 0 is a rotor's
+        if body.izz_kg_m2 == 0.0:
+            self.err(f"{f}.izz", f"must be > 0 for a body with extent (its points reach "
+                                 f"{extent * 1e3:.4g} mm from its centre of gravity); only a "
+                                 "body with a single point may be a point mass")
+            return
+        radius = math.sqrt(body.izz_kg_m2 / body.mass_kg)
+        if radius > GYRATION_LIMIT * extent:
+            self.err(f"{f}.izz", f"implausible: {izz_given} {unit} gives a radius of gyration "
+                                 f"of {radius * 1e3:.4g} mm for a body whose points reach "
+                                 f"{extent * 1e3:.4g} mm from its centre of gravity (more than "
+                                 f"{GYRATION_LIMIT:g} times); a unit or decimal-point slip?")
 
     def _joint(self, i: int, raw: dict, bodies: dict[str, Body]) -> Joint | None:
         f = f"joints[{i}]"
