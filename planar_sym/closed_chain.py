@@ -160,7 +160,7 @@ def project(robot: Robot, q, qd) -> tuple[np.ndarray, np.ndarray]:
 
 def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
                     rtol: float = 1e-11, atol: float = 1e-12, method: str = "dopri5",
-                    segment_s: float = 0.1):
+                    segment_s: float = 0.1, drift_limit_m: float = 1e-6):
     """Forward dynamics of a closed chain, on the constraint manifold.
 
     Method (index reduction with projection): the full state (q, qd) is integrated (the C
@@ -173,7 +173,8 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
         [ Phi_q   0      ] [ lambda ] = [ gamma       ]
 
     and every ``segment_s`` the state is projected back onto Phi = 0, Phi_q qd = 0 (the
-    integrator restarts there). ``q0`` is the full coordinate vector (projected first);
+    integrator restarts there); a segment that drifts beyond ``drift_limit_m`` raises
+    SimulationError naming the time. ``q0`` is the full coordinate vector (projected first);
     ``torque`` acts on the actuated joints. The result reports ``constraint_drift_m``, the
     largest |Phi| at any output time.
     """
@@ -226,6 +227,12 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
             ys = sol.y
         qs += list(ys[:n, 1:].T)
         qds += list(ys[n:, 1:].T)
+        seg_drift = np.max(np.abs(robot.constraint(ys[:n, 1:].T)))
+        if not seg_drift <= drift_limit_m:  # NaN too
+            raise SimulationError(
+                f"{robot.name}: the loops drifted apart by {seg_drift:.3g} m between t = "
+                f"{t[k]:.6g} s and {t[end]:.6g} s (limit {drift_limit_m:g} m): tighten rtol/atol "
+                "or shorten segment_s; near a singular pose the constraints cannot hold")
         q, qd = project(robot, ys[:n, -1], ys[n:, -1])
         k = end
     qa, qda = np.array(qs), np.array(qds)

@@ -192,6 +192,14 @@ def _build_fastcall():
         return None  # no Python headers or compiler: the ctypes path still works
 
 
+class CorruptLibrary(LibraryError):
+    """A cached library that cannot be loaded at all (the loader rebuilds it once)."""
+
+    def __init__(self, message: str, reason: str):
+        super().__init__(message)
+        self.reason = reason
+
+
 @dataclass(frozen=True)
 class FunctionSpec:
     symbol: str
@@ -248,7 +256,13 @@ class Library:
             raise LibraryError(f"{self.folder / 'manifest.json'} is for robot "
                                f"{self.manifest.get('robot')!r}, not {robot!r}: run `make derive`")
         self.path = build(self.folder, self.manifest)
-        self.lib = self._load(self.path)
+        try:
+            self.lib = self._load(self.path)
+        except CorruptLibrary as exc:  # truncated or overwritten cache file: build it anew
+            warnings.warn(f"compiled library {self.path} could not be loaded ({exc.reason}): "
+                          "rebuilding it", RuntimeWarning, stacklevel=2)
+            self.path = build(self.folder, self.manifest, force=True)
+            self.lib = self._load(self.path)
         self.simd = None  # the vectorised sample loops, where this machine can build them
         try:
             simd_path = build_simd(self.folder, self.manifest)
@@ -281,8 +295,8 @@ class Library:
             lib = ctypes.CDLL(str(path))
             get = getattr(lib, hash_symbol or f"{robot}_input_hash")
         except (OSError, AttributeError) as exc:
-            raise LibraryError(f"compiled library {path} is corrupt or not for {robot} ({exc}): "
-                               f"delete it and run `make build`") from None
+            raise CorruptLibrary(f"compiled library {path} is corrupt or not for {robot} "
+                                 f"({exc}): delete it and run `make build`", str(exc)) from None
         get.restype = ctypes.c_char_p
         have = get().decode()
         if have != want:
