@@ -28,7 +28,8 @@ HASHED_SOURCES = ("planar_sym/description.py", "planar_sym/units.py")
 
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix
-OUTPUT_KIND = {"kinetic": "scalar", "potential": "scalar", "M": "matrix", "J": "matrix",
+OUTPUT_KIND = {"kinetic": "scalar", "potential": "scalar", "cond": "scalar", "M": "matrix",
+               "J": "matrix",
                "phi_q": "matrix", "frames": "matrix", "dqdd_dq": "matrix", "dqdd_dqd": "matrix"}
 
 
@@ -122,8 +123,34 @@ def functions(model: Model) -> list[Generated]:
                [("M", M), ("h", h), ("phi_q", tr.matrix(con.jacobian)),
                 ("gamma", tr.matrix(con.accel_bias))],
                "M, h, Phi_q and gamma in one call: everything a KKT solve needs"),
+            _closed_inverse_dynamics(fn, model, q, qd, qdd, p, ca.mtimes(M, qdd) + h,
+                                     tr.matrix(con.jacobian)),
         ]
     return out
+
+
+def _closed_inverse_dynamics(fn, model: Model, q, qd, qdd, p, b, jac) -> Generated:
+    """Torques, cut-joint forces and the singularity measure of a closed chain, fused.
+
+    ``[S^T Phi_q^T][tau; lambda] = b`` splits into ``Phi_p^T lambda = b_p`` (passive rows)
+    and ``tau = b_a - Phi_a^T lambda``; the whole matrix is singular exactly when ``Phi_p`` is,
+    so its 1-norm condition number ``||Phi_p^T||_1 ||Phi_p^-T||_1`` is the measure. One
+    function shares every sine and cosine between the dynamics and the constraints.
+    """
+    act = list(model.desc.actuated)
+    pas = [i for i in range(len(model.sym.q)) if i not in act]
+    pt = jac[:, pas].T
+    inv = ca.inv(pt)  # m is 2 or 4 here: explicit, and the condition number needs it anyway
+    lam = ca.mtimes(inv, b[pas])
+    tau = b[act] - ca.mtimes(jac[:, act].T, lam)
+
+    def norm1(a):
+        return ca.mmax(ca.sum1(ca.fabs(a)))
+
+    return fn("closed_inverse_dynamics", [("q", q), ("qd", qd), ("qdd", qdd), ("p", p)],
+              [("tau", tau), ("lambda", lam), ("cond", norm1(pt) * norm1(inv))],
+              "closed-chain torques tau (actuated), cut-joint forces lambda and the 1-norm "
+              "condition number of Phi_p, from M qdd + h = S^T tau + Phi_q^T lambda")
 
 
 def _batch_wrapper(g: Generated) -> str:

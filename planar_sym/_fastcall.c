@@ -89,7 +89,9 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
         }
         const double *x = (const double *)PyArray_DATA(arr[i]);
         npy_intp total = n * self->in_size[i];
-        for (npy_intp k = 0; k < total; ++k) {
+        int bad = 0;  /* x - x is 0 for finite x, NaN otherwise: a branch-free, vectorised scan */
+        for (npy_intp k = 0; k < total; ++k) bad |= !(x[k] - x[k] == 0.0);
+        for (npy_intp k = 0; bad && k < total; ++k) {
             if (!isfinite(x[k])) {
                 npy_intp s = k / self->in_size[i], c = k % self->in_size[i];
                 PyObject *v = PyFloat_FromDouble(x[k]);
@@ -195,7 +197,107 @@ static PyObject *make(PyObject *mod, PyObject *args) {
     return (PyObject *)self;
 }
 
+/* ---- closed chains: torques and multipliers from the passive rows ------------------------
+ * [S^T Phi_q^T] [tau; lambda] = b splits, with a = actuated and p = passive coordinates, into
+ *   Phi_p^T lambda = b_p   (m x m),   tau = b_a - Phi_a^T lambda,
+ * so the whole matrix is singular exactly when Phi_p is; its 1-norm condition number
+ * ||Phi_p||_1 ||Phi_p^-1||_1 is computed exactly from the inverse (m is 2 or 4 here). */
+#define MAXM 16
+
+static int invert(int m, double *a, double *inv) {  /* Gauss-Jordan, partial pivoting */
+    for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j) inv[i * m + j] = i == j;
+    for (int c = 0; c < m; ++c) {
+        int piv = c;
+        for (int r = c + 1; r < m; ++r) if (fabs(a[r * m + c]) > fabs(a[piv * m + c])) piv = r;
+        if (a[piv * m + c] == 0.0) return 1;
+        for (int j = 0; j < m; ++j) {
+            double t = a[c * m + j]; a[c * m + j] = a[piv * m + j]; a[piv * m + j] = t;
+            t = inv[c * m + j]; inv[c * m + j] = inv[piv * m + j]; inv[piv * m + j] = t;
+        }
+        double d = 1.0 / a[c * m + c];
+        for (int j = 0; j < m; ++j) { a[c * m + j] *= d; inv[c * m + j] *= d; }
+        for (int r = 0; r < m; ++r) {
+            if (r == c) continue;
+            double f = a[r * m + c];
+            if (f == 0.0) continue;
+            for (int j = 0; j < m; ++j) { a[r * m + j] -= f * a[c * m + j]; inv[r * m + j] -= f * inv[c * m + j]; }
+        }
+    }
+    return 0;
+}
+
+static double norm1(int m, const double *a) {
+    double best = 0.0;
+    for (int j = 0; j < m; ++j) {
+        double s = 0.0;
+        for (int i = 0; i < m; ++i) s += fabs(a[i * m + j]);
+        if (s > best) best = s;
+    }
+    return best;
+}
+
+/* closed_solve(b (N, n), jac (N, m, n), act (tuple), tau_out (N, n_act), lam_out (N, m),
+ *              cond_out (N,)) -> None; infinite cond where Phi_p is exactly singular */
+static PyObject *closed_solve(PyObject *mod, PyObject *args) {
+    PyObject *ob, *oj, *oact, *ot, *ol, *oc;
+    (void)mod;
+    if (!PyArg_ParseTuple(args, "OOO!OOO", &ob, &oj, &PyTuple_Type, &oact, &ot, &ol, &oc))
+        return NULL;
+    PyArrayObject *b = (PyArrayObject *)PyArray_FROMANY(ob, NPY_DOUBLE, 2, 2, NPY_ARRAY_CARRAY_RO);
+    PyArrayObject *j = (PyArrayObject *)PyArray_FROMANY(oj, NPY_DOUBLE, 3, 3, NPY_ARRAY_CARRAY_RO);
+    PyObject *result = NULL;
+    if (!b || !j) goto out;
+    npy_intp N = PyArray_DIM(b, 0), n = PyArray_DIM(b, 1), m = PyArray_DIM(j, 1);
+    Py_ssize_t na = PyTuple_GET_SIZE(oact);
+    if (PyArray_DIM(j, 0) != N || PyArray_DIM(j, 2) != n || na + m != n || m > MAXM || n > 4 * MAXM
+        || !PyArray_Check(ot) || !PyArray_Check(ol) || !PyArray_Check(oc)) {
+        PyErr_SetString(PyExc_ValueError, "closed_solve: inconsistent shapes");
+        goto out;
+    }
+    int act[4 * MAXM], pas[4 * MAXM], is_act[4 * MAXM] = {0};
+    for (Py_ssize_t k = 0; k < na; ++k) { act[k] = (int)PyLong_AsLong(PyTuple_GET_ITEM(oact, k)); is_act[act[k]] = 1; }
+    for (int i = 0, k = 0; i < n; ++i) if (!is_act[i]) pas[k++] = i;
+    double *tau = (double *)PyArray_DATA((PyArrayObject *)ot);
+    double *lam = (double *)PyArray_DATA((PyArrayObject *)ol);
+    double *cond = (double *)PyArray_DATA((PyArrayObject *)oc);
+    const double *bb = (const double *)PyArray_DATA(b), *jj = (const double *)PyArray_DATA(j);
+    Py_BEGIN_ALLOW_THREADS
+    for (npy_intp s = 0; s < N; ++s) {
+        const double *bs = bb + s * n, *js = jj + s * m * n;
+        double pt[MAXM * MAXM], inv[MAXM * MAXM], work[MAXM * MAXM];
+        for (int r = 0; r < m; ++r)          /* Phi_p^T: row r = passive coordinate pas[r] */
+            for (int c = 0; c < m; ++c) pt[r * m + c] = js[c * n + pas[r]];
+        memcpy(work, pt, sizeof(double) * m * m);
+        if (invert((int)m, work, inv)) {
+            cond[s] = INFINITY;
+            for (int c = 0; c < m; ++c) lam[s * m + c] = NAN;
+            for (Py_ssize_t k = 0; k < na; ++k) tau[s * na + k] = NAN;
+            continue;
+        }
+        cond[s] = norm1((int)m, pt) * norm1((int)m, inv);
+        for (int c = 0; c < m; ++c) {
+            double v = 0.0;
+            for (int r = 0; r < m; ++r) v += inv[c * m + r] * bs[pas[r]];
+            lam[s * m + c] = v;
+        }
+        for (Py_ssize_t k = 0; k < na; ++k) {   /* tau = b_a - Phi_a^T lambda */
+            double v = bs[act[k]];
+            for (int c = 0; c < m; ++c) v -= js[c * n + act[k]] * lam[s * m + c];
+            tau[s * na + k] = v;
+        }
+    }
+    Py_END_ALLOW_THREADS
+    result = Py_NewRef(Py_None);
+out:
+    Py_XDECREF(b);
+    Py_XDECREF(j);
+    return result;
+}
+
 static PyMethodDef methods[] = {{"make", make, METH_VARARGS, "make a Caller for a sample loop"},
+                                {"closed_solve", closed_solve, METH_VARARGS,
+                                 "closed-chain torques and multipliers, batched"},
                                 {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_fastcall", NULL, -1, methods};

@@ -112,24 +112,42 @@ def inverse_dynamics(robot: Robot, q, qd, qdd, t=None) -> tuple[np.ndarray, np.n
     the constraints (use ``complete_rates`` or the inverse kinematics).
     Returns tau (N, actuated) and lambda (N, 2 * loops: x, y per cut joint).
     """
-    n_act = len(partition(robot)[0])
+    act, pas = partition(robot)
     q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
                                                                    ("qdd", qdd)))
-    b = robot.tree_inverse_dynamics(q, qd, qdd).reshape(len(q), robot.n)
-    sol = np.linalg.solve(actuation_matrix(robot, q, t), b[..., None])[..., 0]
-    return sol[:, :n_act], sol[:, n_act:]
+    if not hasattr(robot, "_closed_inverse_dynamics"):  # exact path: the solve in numpy
+        b = robot.tree_inverse_dynamics(q, qd, qdd).reshape(len(q), robot.n)
+        sol = np.linalg.solve(actuation_matrix(robot, q, t), b[..., None])[..., 0]
+        return sol[:, :len(act)], sol[:, len(act):]
+    tau, lam, cond = robot._closed_inverse_dynamics(q, qd, qdd)
+    _report_singular(robot, cond, t)
+    return tau, lam
 
 
 def actuation_matrix(robot: Robot, q: np.ndarray, t=None) -> np.ndarray:
-    """``[S^T Phi_q^T]`` at each sample, shape (N, n, n); refuses a singular pose by time."""
-    act, _ = partition(robot)
+    """``[S^T Phi_q^T]`` at each sample, shape (N, n, n); refuses a singular pose by time.
+
+    The matrix is singular exactly when the passive-joint block ``Phi_p`` is (its actuated
+    rows are identity rows), so that block's 1-norm condition number is the measure.
+    """
+    act, pas = partition(robot)
     n_s, n = len(q), robot.n
     jac = robot.constraint_jacobian(q).reshape(n_s, robot.n_constraints, n)
+    _report_singular(robot, np.linalg.cond(jac[:, :, pas], 1), t)
     a = np.zeros((n_s, n, n))
     a[:, act, np.arange(len(act))] = 1.0
     a[:, :, len(act):] = jac.transpose(0, 2, 1)
-    _check_cond(robot, a, "actuation matrix [S^T Phi_q^T]", t)
     return a
+
+
+def _report_singular(robot: Robot, cond: np.ndarray, t) -> None:
+    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise WorkspaceError(f"{robot.name}: singular pose at {_when(t, k)}: the passive-joint "
+                             f"constraint Jacobian Phi_p (which the actuation matrix "
+                             f"[S^T Phi_q^T] needs) has 1-norm condition number {cond[k]:.3g} "
+                             f"> {COND_LIMIT:g}")
 
 
 def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> JointTrajectory:

@@ -82,6 +82,10 @@ class Robot:
         if not self.is_closed_chain:
             methods.update(inverse_dynamics="inverse_dynamics",
                            forward_dynamics="forward_dynamics")
+        else:
+            methods.update(constraint="constraint", constraint_jacobian="constraint_jacobian",
+                           constraint_bias="constraint_bias",
+                           _closed_inverse_dynamics="closed_inverse_dynamics")
         kinds = {"scalar": 0, "vector": 1, "matrix": 2}
         for attr, quantity in methods.items():
             spec = self.library.manifest["functions"][quantity]
@@ -92,7 +96,8 @@ class Robot:
                 tuple(size for name, size in ins if name != "p"),
                 [name for name, _ in ins].index("p"),
                 tuple((rows, cols, kinds[kind]) for _, rows, cols, kind in spec["outputs"]),
-                self.p, InputError, names, getattr(type(self), attr).__doc__)
+                self.p, InputError, names, getattr(type(self), attr, None).__doc__
+                if hasattr(type(self), attr) else spec["doc"])
             setattr(self, attr, caller)  # instance attribute: no Python frame per call
 
     @property

@@ -182,7 +182,7 @@ def _build_fastcall():
         target = cache_dir() / f"_fastcall-{key}{tag}"
         includes = ("-I" + sysconfig.get_paths()["include"], "-I" + numpy.get_include())
         # no fast math here: the finiteness check must see NaN
-        compile_shared([src], target, ("-O2", "-fPIC", "-std=c99"), extra=includes,
+        compile_shared([src], target, ("-O3", "-fPIC", "-std=c99"), extra=includes,
                        link_flags=())
         spec = importlib.util.spec_from_file_location("planar_sym._fastcall", target)
         module = importlib.util.module_from_spec(spec)
@@ -190,6 +190,15 @@ def _build_fastcall():
         return module
     except (LibraryError, OSError, ImportError):
         return None  # no Python headers or compiler: the ctypes path still works
+
+
+def _fresh_name(path: Path) -> Path:
+    """A private copy of a just-rebuilt library: dlopen returns the handle it already holds
+    for a path name (the bad file, opened a moment ago), not the file now at that path."""
+    fd, tmp = tempfile.mkstemp(suffix=".so", dir=path.parent)
+    os.close(fd)
+    shutil.copyfile(path, tmp)
+    return Path(tmp)
 
 
 class CorruptLibrary(LibraryError):
@@ -262,7 +271,7 @@ class Library:
             warnings.warn(f"compiled library {self.path} could not be loaded ({exc.reason}): "
                           "rebuilding it", RuntimeWarning, stacklevel=2)
             self.path = build(self.folder, self.manifest, force=True)
-            self.lib = self._load(self.path)
+            self.lib = self._load(_fresh_name(self.path), private_copy=True)
         self.simd = None  # the vectorised sample loops, where this machine can build them
         try:
             simd_path = build_simd(self.folder, self.manifest)
@@ -289,10 +298,13 @@ class Library:
             return None
         return ctypes.cast(getattr(self.simd, spec["loop"]), ctypes.c_void_p).value
 
-    def _load(self, path: Path, hash_symbol: str | None = None) -> ctypes.CDLL:
+    def _load(self, path: Path, hash_symbol: str | None = None,
+              private_copy: bool = False) -> ctypes.CDLL:
         robot, want = self.manifest["robot"], self.manifest["input_hash"]
         try:
             lib = ctypes.CDLL(str(path))
+            if private_copy:  # mapped now: the file is not needed on disk
+                path.unlink()
             get = getattr(lib, hash_symbol or f"{robot}_input_hash")
         except (OSError, AttributeError) as exc:
             raise CorruptLibrary(f"compiled library {path} is corrupt or not for {robot} "

@@ -108,7 +108,12 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
         return Row(name, math.inf, TOL_SYMBOLIC, "FAIL", f"{path}: parameter vector differs")
     states = dict(zip(("q", "qd", "qdd", "tau"), random_states(robot, samples, seed)))
     refs = _sympy_reference(model, robot.p, states)
-    errs = {f"{quantity}.{out}": rel_err(value, refs[out])
+    def ref_for(quantity: str, out: str) -> np.ndarray:
+        # the fused closed-chain solve returns the actuated torques only
+        return refs["closed.tau"] if (quantity, out) == ("closed_inverse_dynamics", "tau") \
+            else refs[out]
+
+    errs = {f"{quantity}.{out}": rel_err(value, ref_for(quantity, out))
             for quantity, fn in robot.library.functions.items()
             for out, value in fn(samples, {k: (robot.p if k == "p" else states[k])
                                            for k, _ in fn.spec.inputs}).items()}
@@ -155,7 +160,24 @@ def _sympy_reference(model, p, states) -> dict[str, np.ndarray]:
                  dqdd_dqd=-np.linalg.solve(r["M"], r["dh_dqd"]))
         for key, v in r.items():
             out[key].append(v)
-    return {k: np.array(v) for k, v in out.items()}
+    refs = {k: np.array(v) for k, v in out.items() if v}
+    if con.phi.shape[0]:  # closed chains: the fused solve, by numpy from the SymPy M, h, Phi_q
+        refs.update(_closed_reference(model, refs, states["qdd"]))
+    return refs
+
+
+def _closed_reference(model, refs: dict, qdd: np.ndarray) -> dict[str, np.ndarray]:
+    """tau (actuated), lambda and cond of closed_inverse_dynamics from [S^T Phi_q^T] solved."""
+    act = list(model.desc.actuated)
+    n = len(model.sym.q)
+    pas = [i for i in range(n) if i not in act]
+    jac = refs["phi_q"]
+    a = np.zeros((len(jac), n, n))
+    a[:, act, np.arange(len(act))] = 1.0
+    a[:, :, len(act):] = jac.transpose(0, 2, 1)
+    sol = np.linalg.solve(a, refs["tau"].reshape(len(jac), n, 1))[..., 0]
+    return {"closed.tau": sol[:, :len(act)], "lambda": sol[:, len(act):],
+            "cond": np.linalg.cond(jac[:, :, pas].transpose(0, 2, 1), 1)}
 
 
 # -- (b) Lagrange from the energy ---------------------------------------------------------------

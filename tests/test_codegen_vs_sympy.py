@@ -159,6 +159,22 @@ def test_closed_chain_outputs(case, worst_errors):
         _check(worst_errors, f"sympy KKT phi_q {name}", raw["phi_q"], ref("phi_q", p, q))
         _check(worst_errors, f"sympy KKT gamma {name}", raw["gamma"],
                ref("gamma", p, q, qd)[..., 0])
+    # fused torques, cut-joint forces and condition number, against a numpy solve of the
+    # SymPy M qdd + h and Phi_q: [S^T Phi_q^T][tau; lambda] = M qdd + h
+    qdd = np.random.default_rng(5).uniform(-3, 3, q.shape)
+    raw = robot.library.functions["closed_inverse_dynamics"](
+        len(q), {"q": q, "qd": qd, "qdd": qdd, "p": p})
+    M, h, jac = ref("M", p, q), ref("h", p, q, qd)[..., 0], ref("phi_q", p, q)
+    act = list(robot.actuated)
+    pas = [i for i in range(robot.n) if i not in act]
+    a = np.zeros((len(q), robot.n, robot.n))
+    a[:, act, np.arange(len(act))] = 1.0
+    a[:, :, len(act):] = jac.transpose(0, 2, 1)
+    sol = np.linalg.solve(a, ((M @ qdd[..., None])[..., 0] + h)[..., None])[..., 0]
+    _check(worst_errors, f"sympy closed tau {name}", raw["tau"], sol[:, :len(act)])
+    _check(worst_errors, f"sympy closed lambda {name}", raw["lambda"], sol[:, len(act):])
+    cond = np.linalg.cond(jac[:, :, pas].transpose(0, 2, 1), 1)
+    _check(worst_errors, f"sympy closed cond {name}", raw["cond"], cond)
 
 
 def test_tree_forward_dynamics(case, worst_errors):
@@ -178,7 +194,8 @@ def test_every_generated_function_is_covered(case):
     """A function added to the code generator must get a comparison here."""
     _, _, robot, *_ = case
     covered = {"mass_matrix", "bias", "gravity", "inverse_dynamics", "energy", "task", "frames"}
-    covered |= ({"constraint", "constraint_jacobian", "constraint_bias", "constrained_terms"}
+    covered |= ({"constraint", "constraint_jacobian", "constraint_bias", "constrained_terms",
+                 "closed_inverse_dynamics"}
                 if robot.is_closed_chain else {"forward_dynamics", "forward_dynamics_jacobian"})
     assert set(robot.library.manifest["functions"]) == covered
 
