@@ -14,7 +14,7 @@ venv: $(STAMP)  ## virtual environment with the package (editable), derive and t
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test]'
+	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench]'
 	touch $@
 
 derive: $(STAMP)  ## re-derive every built-in robot into generated/ (deterministic, atomic)
@@ -35,8 +35,11 @@ test-fast: $(STAMP)  ## tests without the slow re-derivation checks
 demo: derive-check build  ## every scenario, animation and robot drawing into results/ (index: results/README.md)
 	$(PY) -m planar_sym demo --out results
 
+bench: $(STAMP)  ## benchmarks vs Pinocchio, MuJoCo, lambdify and a C floor -> BENCHMARKS.md (~3 min)
+	$(PY) -m benchmarks
+
 lint: $(STAMP)  ## ruff on the sources (generated/ excluded)
-	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests
+	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests benchmarks examples
 
 clean:  ## remove build outputs (not the committed generated/)
 	rm -rf build dist *.egg-info results .pytest_cache

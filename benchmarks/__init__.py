@@ -1,0 +1,46 @@
+"""planar-sym benchmarks: ``python -m benchmarks [--quick] [--out BENCHMARKS.md]``.
+
+Every figure is measured together with a baseline in the same run (interleaved repeats) and
+reported as median [min-max] and as a ratio to that baseline; see ``timing.py``. Sections:
+``inverse`` (inverse dynamics vs Pinocchio, MuJoCo, lambdify, a hand-written C floor),
+``forward`` (work-precision of forward dynamics), ``build`` (derive and compile times),
+``imports`` (import and first-torque latency).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+SERIAL = ("serial_2dof", "serial_3dof")
+CLOSED = ("five_bar_type1", "five_bar_type2", "parallel_3rrr")
+ROBOTS = SERIAL + CLOSED
+
+
+@dataclass(frozen=True)
+class Config:
+    """Sizes and repeats of one run; ``quick()`` is the seconds-long smoke-test version."""
+
+    quick: bool = False
+    repeats: int = 7  # interleaved rounds for in-process timings
+    min_block_s: float = 0.02  # each timed block lasts at least this long
+    sizes: tuple[int, ...] = (1_000, 100_000, 1_000_000)
+    loop_max_n: int = 100_000  # Python-loop baselines (Pinocchio, MuJoCo) stop here
+    big_repeats: int = 3  # rounds for N >= 1e6
+    rtols: tuple[float, ...] = (1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 3e-10, 1e-10,
+                                3e-11, 1e-11, 3e-12, 1e-12, 3e-13, 1e-13)
+    numpy_rtols: tuple[float, ...] = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12)
+    mujoco_dts: tuple[float, ...] = (3e-3, 1e-3, 3e-4, 1e-4, 3e-5)
+    sim_repeats: int = 7
+    radau_check: bool = True  # cross-check each forward reference with Radau (10 s: 5-bar)
+    derive_robots: tuple[str, ...] = ROBOTS
+    build_robots: tuple[str, ...] = ROBOTS
+    build_repeats: int = 3
+    import_repeats: int = 10
+
+    @classmethod
+    def quick_config(cls) -> Config:
+        return cls(quick=True, repeats=3, min_block_s=0.003, sizes=(1_000,), loop_max_n=1_000,
+                   big_repeats=1, rtols=(1e-7, 1e-10), numpy_rtols=(1e-7,),
+                   mujoco_dts=(1e-3, 1e-4), sim_repeats=1, radau_check=False,
+                   derive_robots=("serial_2dof",),
+                   build_robots=("serial_2dof",), build_repeats=1, import_repeats=2)

@@ -1,0 +1,131 @@
+"""A MuJoCo model (MJCF written here) of a description's spanning tree, for mj_inverse and RK4.
+
+Construction, generic over the description (serial arms; loop joints would need equality
+constraints and are not modelled):
+
+* every description body becomes an MJCF body whose frame *is* that body's frame, so MuJoCo's
+  ``qpos`` equals planar_sym's ``q`` (child frame angle minus parent frame angle);
+* a revolute joint: child body at ``parent_point - child_point`` in the parent's frame (the
+  drawn configuration, where q = 0 means "aligned with the parent"), ``hinge`` at the child
+  point, axis z; a weld: a joint-less child body, rotated by the drawn relative angle;
+* ``inertial``: mass, ``pos`` = centre of gravity, ``diaginertia = izz/2, izz/2, izz``. MuJoCo
+  demands ``ixx + iyy >= izz`` (triangle inequality), so tiny ixx/iyy are refused; a thin
+  lamina's ``izz/2`` each satisfy it and never enter the dynamics (every angular velocity is
+  along z);
+* gravity ``[gx, gy, 0]``; no geoms; joint damping, armature, stiffness and friction loss are
+  zero (MuJoCo's defaults), and ``opt.disableflags`` turns off contacts, constraints, limits,
+  equality, friction loss and passive forces so nothing but the rigid-body dynamics acts.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planar_sym.description import GROUND, Description
+
+
+def _v(*xs: float) -> str:
+    return " ".join(repr(float(x)) for x in xs)
+
+
+def mjcf(desc: Description, *, timestep: float = 1e-3) -> str:
+    """The MJCF text of the description's spanning tree."""
+    children: dict[str, list[str]] = {}
+    bodies: dict[str, str] = {}  # body name -> opening tag with inertial and joint
+    for j in desc.tree_joints:
+        parent, child = desc.bodies[j.parent], desc.bodies[j.child]
+        px, py = parent.points_m[j.parent_point]
+        cx, cy = child.points_m[j.child_point]
+        if j.type == "revolute":
+            rel = 0.0
+            joint = f'<joint name="{j.name}" type="hinge" pos="{_v(cx, cy, 0)}" axis="0 0 1"/>'
+        else:
+            rel = child.drawn_angle_rad - parent.drawn_angle_rad
+            joint = ""
+        c, s = math.cos(rel), math.sin(rel)
+        pos = (px - (c * cx - s * cy), py - (s * cx + c * cy), 0.0)
+        quat = (math.cos(rel / 2), 0.0, 0.0, math.sin(rel / 2))
+        izz = child.izz_kg_m2
+        inertial = (f'<inertial pos="{_v(*child.cg_m, 0)}" mass="{child.mass_kg!r}" '
+                    f'diaginertia="{_v(izz / 2, izz / 2, izz)}"/>')
+        bodies[j.child] = (f'<body name="{j.child}" pos="{_v(*pos)}" quat="{_v(*quat)}">'
+                           f"{joint}{inertial}")
+        children.setdefault(j.parent, []).append(j.child)
+
+    def emit(name: str, depth: int) -> list[str]:
+        pad = "  " * depth
+        lines = [pad + bodies[name]]
+        for ch in children.get(name, []):
+            lines += emit(ch, depth + 1)
+        return lines + [pad + "</body>"]
+
+    gx, gy = desc.gravity_m_s2
+    tree = [line for ch in children.get(GROUND, []) for line in emit(ch, 3)]
+    return "\n".join([
+        f'<mujoco model="{desc.name}">',
+        '  <compiler angle="radian" inertiafromgeom="false"/>',
+        f'  <option gravity="{_v(gx, gy, 0)}" timestep="{timestep!r}" integrator="RK4"/>',
+        "  <worldbody>", *tree, "  </worldbody>", "</mujoco>", ""])
+
+
+def build(desc: Description, *, timestep: float = 1e-3):
+    """(mujoco.MjModel, mujoco.MjData) with everything but rigid-body dynamics disabled."""
+    import mujoco
+
+    model = mujoco.MjModel.from_xml_string(mjcf(desc, timestep=timestep))
+    off = mujoco.mjtDisableBit
+    for flag in ("mjDSBL_CONTACT", "mjDSBL_CONSTRAINT", "mjDSBL_LIMIT", "mjDSBL_EQUALITY",
+                 "mjDSBL_FRICTIONLOSS", "mjDSBL_PASSIVE", "mjDSBL_SPRING", "mjDSBL_DAMPER"):
+        if hasattr(off, flag):  # PASSIVE was split into SPRING and DAMPER in MuJoCo 3.x
+            model.opt.disableflags |= int(getattr(off, flag))
+    assert model.nq == model.nv == len(desc.coordinates)
+    assert not model.dof_damping.any() and not model.dof_armature.any()
+    return model, mujoco.MjData(model)
+
+
+def inverse_loop(model, data, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """``mj_inverse`` sample by sample in a Python loop (views bound once); (N, n) in and out."""
+    import mujoco
+
+    out = np.empty_like(q)
+    qpos, qvel, qacc, frc = data.qpos, data.qvel, data.qacc, data.qfrc_inverse
+    inverse = mujoco.mj_inverse
+    for k in range(len(q)):
+        qpos[:] = q[k]
+        qvel[:] = qd[k]
+        qacc[:] = qdd[k]
+        inverse(model, data)
+        out[k] = frc
+    return out
+
+
+def simulate_rk4(model, data, q0, qd0, t_end: float, dt: float, n_out: int = 101):
+    """MuJoCo's RK4 from (q0, qd0), zero control, over [0, t_end] in ``round(t_end / dt)``
+    equal steps (the step is adjusted so the last step lands exactly on ``t_end``).
+
+    Returns (t, q, qd) at ``n_out`` steps spread over the run (the first at t = 0, the last at
+    t_end), and the step actually used.
+    """
+    import mujoco
+
+    steps = max(1, round(t_end / dt))
+    model.opt.timestep = t_end / steps
+    model.opt.integrator = int(mujoco.mjtIntegrator.mjINT_RK4)
+    mujoco.mj_resetData(model, data)
+    data.qpos[:] = q0
+    data.qvel[:] = qd0
+    marks = np.unique(np.round(np.linspace(0, steps, n_out)).astype(int))
+    q = np.empty((len(marks), model.nq))
+    qd = np.empty((len(marks), model.nv))
+    q[0], qd[0] = data.qpos, data.qvel
+    step = mujoco.mj_step
+    qpos, qvel = data.qpos, data.qvel
+    k = 1
+    for i in range(1, steps + 1):
+        step(model, data)
+        if i == marks[k]:
+            q[k], qd[k] = qpos, qvel
+            k += 1
+    return marks * model.opt.timestep, q, qd, model.opt.timestep

@@ -1,0 +1,67 @@
+"""A Pinocchio model of a description's spanning tree (the approach of tests/test_vs_pinocchio.py).
+
+* one ``JointModelRZ`` per revolute tree joint, placed in the parent joint's frame at the
+  parent point (with the rotation of the parent body frame in its joint frame), so the joint
+  angle is exactly planar_sym's q;
+* the child body's frame sits at minus its child point in the new joint frame;
+* welded bodies (motor point masses) are appended to their parent's joint;
+* inertia ``pin.Inertia(m, [cgx, cgy, 0], diag(0, 0, izz))``; gravity ``[gx, gy, 0]``.
+
+Copied rather than imported so that the benchmarks do not import the test suite (pytest,
+conftest) at run time.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planar_sym.description import GROUND, Description
+
+
+def _xyz(xy) -> np.ndarray:
+    return np.array([xy[0], xy[1], 0.0])
+
+
+def _rotz(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def build(desc: Description):
+    """(pinocchio.Model, pinocchio.Data) of the description's spanning tree."""
+    import pinocchio as pin
+
+    model = pin.Model()
+    model.gravity = pin.Motion(_xyz(desc.gravity_m_s2), np.zeros(3))
+    where = {GROUND: (0, pin.SE3.Identity())}
+    for j in desc.tree_joints:
+        parent, child = desc.bodies[j.parent], desc.bodies[j.child]
+        pid, parent_pl = where[j.parent]
+        at = parent_pl * pin.SE3(np.eye(3), _xyz(parent.points_m[j.parent_point]))
+        to_child_frame = pin.SE3(np.eye(3), -_xyz(child.points_m[j.child_point]))
+        if j.type == "revolute":
+            jid = model.addJoint(pid, pin.JointModelRZ(), at, j.name)
+            body_pl = to_child_frame
+        else:
+            rel = child.drawn_angle_rad - parent.drawn_angle_rad
+            jid = pid
+            body_pl = at * pin.SE3(_rotz(rel), np.zeros(3)) * to_child_frame
+        inertia = pin.Inertia(child.mass_kg, _xyz(child.cg_m),
+                              np.diag([0.0, 0.0, child.izz_kg_m2]))
+        model.appendBodyToJoint(jid, inertia, body_pl)
+        where[j.child] = (jid, body_pl)
+    assert model.nq == model.nv == len(desc.coordinates)
+    return model, model.createData()
+
+
+def rnea_loop(model, data, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """``pinocchio.rnea`` sample by sample in a Python loop; (N, n) in, (N, n) out."""
+    import pinocchio as pin
+
+    out = np.empty_like(q)
+    rnea = pin.rnea
+    for k in range(len(q)):
+        out[k] = rnea(model, data, q[k], qd[k], qdd[k])
+    return out
