@@ -250,15 +250,15 @@ def _header(model: Model, gens: list[Generated]) -> str:
                                             for i in range(f.n_in())]
                          + [f"casadi_real *{f.name_out(i)}" for i in range(f.n_out())])
         lines += [f"/* {g.doc} */",
-                  f"int {f.name()}(const casadi_real **arg, casadi_real **res, "
-                  "casadi_int *iw, casadi_real *w, int mem);",
-                  f"int {f.name()}_work(casadi_int *sz_arg, casadi_int *sz_res, "
-                  "casadi_int *sz_iw, casadi_int *sz_w);",
+                  (f"int {f.name()}(const casadi_real **arg, casadi_real **res, "
+                   "casadi_int *iw, casadi_real *w, int mem);"),
+                  (f"int {f.name()}_work(casadi_int *sz_arg, casadi_int *sz_res, "
+                   "casadi_int *sz_iw, casadi_int *sz_w);"),
                   f"const casadi_int *{f.name()}_sparsity_in(casadi_int i);",
                   f"int {f.name()}_batch({args});",
                   f"/* in {name}_simd.c: the same over n samples, vectorisable, outputs row-major */",
-                  f"int {f.name()}_loop(long long n, const double *const *in, "
-                  "double *const *out);"]
+                  (f"int {f.name()}_loop(long long n, const double *const *in, "
+                   "double *const *out);")]
     return "\n".join(lines + ["#endif", ""])
 
 

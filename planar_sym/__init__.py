@@ -12,13 +12,35 @@ from __future__ import annotations
 
 from .dynamics import Robot, load
 from .equations import Equations, equations
-from .errors import (DescriptionError, InputError, LibraryError, PlanarSymError,
-                     SimulationError, WorkspaceError)
+from .errors import (
+    DescriptionError,
+    InputError,
+    LibraryError,
+    PlanarSymError,
+    SimulationError,
+    WorkspaceError,
+)
 from .trajectory import Trajectory, cubic
 
-__all__ = ["Robot", "load", "equations", "Equations", "cubic", "Trajectory", "simulate", "inverse_kinematics",
-           "run_scenario", "SCENARIOS", "validate", "DescriptionError", "InputError", "LibraryError",
-           "PlanarSymError", "SimulationError", "WorkspaceError"]
+__all__ = [
+    "SCENARIOS",
+    "DescriptionError",
+    "Equations",
+    "InputError",
+    "LibraryError",
+    "PlanarSymError",
+    "Robot",
+    "SimulationError",
+    "Trajectory",
+    "WorkspaceError",
+    "cubic",
+    "equations",
+    "inverse_kinematics",
+    "load",
+    "run_scenario",
+    "simulate",
+    "validate",
+]
 __version__ = "0.1.0"
 
 _LAZY = {"simulate": ("simulation", "simulate"), "inverse_kinematics": ("kinematics",

@@ -112,7 +112,7 @@ def inverse_dynamics(robot: Robot, q, qd, qdd, t=None) -> tuple[np.ndarray, np.n
     the constraints (use ``complete_rates`` or the inverse kinematics).
     Returns tau (N, actuated) and lambda (N, 2 * loops: x, y per cut joint).
     """
-    act, pas = partition(robot)
+    act, _ = partition(robot)
     q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
                                                                    ("qdd", qdd)))
     if not hasattr(robot, "_closed_inverse_dynamics"):  # exact path: the solve in numpy

@@ -329,7 +329,7 @@ class _Validator:
             self.err(fld, "must be a non-empty table of name = [x, y]")
             return {}
         pts = {}
-        for pname, xy in raw.items():
+        for pname in raw:
             if not _NAME.match(pname):
                 self.err(f"{fld}.{pname}", "point names must be identifiers")
             pts[pname] = self._vec(raw, pname, f"{fld}.{pname}", length)

@@ -14,8 +14,8 @@ WorkspaceError naming the time and the target.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

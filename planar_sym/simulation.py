@@ -14,8 +14,8 @@ Closed chains are in ``planar_sym.closed_chain``.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp

@@ -67,7 +67,7 @@ def test_fast_path_checks_input_like_the_exact_one():
 
 
 def test_parameters_reach_the_fast_path():
-    fast, exact = _pair("serial_2dof")
+    fast, _ = _pair("serial_2dof")
     heavy = fast.with_parameters(m_motor2=0.6)
     q = np.array([0.2, 0.9])
     # a point mass dm at the elbow adds dm g a1 cos(q1) to g1, nothing to g2

@@ -10,7 +10,6 @@ q is measured from +x, counter-clockwise; gravity along -y; J = izz + m l^2 abou
 from __future__ import annotations
 
 import json
-
 import math
 
 import numpy as np

@@ -5,8 +5,6 @@ Tolerance 1e-12 on ``rel_err`` (conftest: per-sample normwise relative error).
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 from conftest import GENERATED, random_states, record, rel_err
 
