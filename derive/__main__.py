@@ -7,6 +7,8 @@ failure or an interrupt leaves the committed files as they were.
 from __future__ import annotations
 
 import argparse
+import ctypes
+import fcntl
 import json
 import os
 import shutil
@@ -22,25 +24,47 @@ from planar_sym.progress import Progress
 from . import codegen, model
 
 
-def write_atomically(files: dict[str, bytes], target: Path) -> None:
-    """Replace folder ``target`` by exactly ``files``, via a sibling temp folder and renames."""
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths in one atomic step (Linux renameat2 RENAME_EXCHANGE); False if the
+    system cannot."""
     try:
-        for name, data in files.items():
-            (tmp / name).write_bytes(data)
-            os.chmod(tmp / name, 0o644)
-        os.chmod(tmp, 0o755)
-        old = None
-        if target.exists():
-            old = target.with_name(f".{target.name}.old.{os.getpid()}")
-            os.replace(target, old)
-        os.replace(tmp, target)
-        if old is not None:
-            shutil.rmtree(old)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp)
+        libc = ctypes.CDLL(None, use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    at_fdcwd, rename_exchange = -100, 2
+    return renameat2(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0
+
+
+def write_atomically(files: dict[str, bytes], target: Path) -> None:
+    """Replace folder ``target`` by exactly ``files``: written beside it, then swapped in.
+
+    The swap is one atomic exchange where the system has one, so an interrupt leaves the old
+    folder or the new one, never neither; a lock keeps concurrent derives from interleaving,
+    and hidden leftovers of a killed run are removed under it.
+    """
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with open(target.parent / f".{target.name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        for stale in target.parent.glob(f".{target.name}.*"):
+            if stale.is_dir():
+                shutil.rmtree(stale, ignore_errors=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+        try:
+            for name, data in files.items():
+                (tmp / name).write_bytes(data)
+                os.chmod(tmp / name, 0o644)
+            os.chmod(tmp, 0o755)
+            if not target.exists():
+                os.replace(tmp, target)
+            elif not _exchange(tmp, target):  # fallback: two renames, a short window
+                old = target.with_name(f".{target.name}.old.{os.getpid()}")
+                os.replace(target, old)
+                os.replace(tmp, target)
+                shutil.rmtree(old)
+        finally:  # after an exchange, tmp holds the old folder
+            if tmp.exists():
+                shutil.rmtree(tmp)
 
 
 def derive_robot(robot: str | Path) -> tuple[str, dict[str, bytes]]:

@@ -48,23 +48,38 @@ static void caller_dealloc(Caller *self) {
 static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                              PyObject *kwnames) {
     Py_ssize_t nargs = PyVectorcall_NARGS(nargsf);
+    PyObject *given[MAX_IO] = {0};
     PyArrayObject *arr[MAX_IO] = {0};
     PyObject *outs[MAX_IO] = {0};
     const double *in[MAX_IO + 1];
     double *out[MAX_IO];
     PyObject *result = NULL;
-    int ndim = -1, i, j;
-    npy_intp n = 1;
-    if (kwnames && PyTuple_GET_SIZE(kwnames)) {
-        PyErr_SetString(PyExc_TypeError, "arguments are positional");
-        return NULL;
-    }
-    if (nargs != self->n_in) {
+    int ndim = 1, i, j;
+    npy_intp n = -1;
+    Py_ssize_t nkw = kwnames ? PyTuple_GET_SIZE(kwnames) : 0;
+    if (nargs > self->n_in) {
         PyErr_Format(PyExc_TypeError, "expected %d arrays, got %zd", self->n_in, nargs);
         return NULL;
     }
+    for (i = 0; i < nargs; ++i) given[i] = args[i];
+    for (Py_ssize_t k = 0; k < nkw; ++k) {  /* keywords by input name: q=..., qd=... */
+        PyObject *key = PyTuple_GET_ITEM(kwnames, k);
+        for (j = 0; j < self->n_in; ++j)
+            if (PyUnicode_Compare(key, PyTuple_GET_ITEM(self->names, j)) == 0) break;
+        if (j == self->n_in || given[j]) {
+            PyErr_Format(PyExc_TypeError, "unexpected or repeated argument %R (inputs: %R)",
+                         key, self->names);
+            return NULL;
+        }
+        given[j] = args[nargs + k];
+    }
+    for (i = 0; i < self->n_in; ++i)
+        if (!given[i]) {
+            PyErr_Format(PyExc_TypeError, "missing input %R", PyTuple_GET_ITEM(self->names, i));
+            return NULL;
+        }
     for (i = 0; i < self->n_in; ++i) {
-        arr[i] = (PyArrayObject *)PyArray_FROMANY(args[i], NPY_DOUBLE, 1, 2,
+        arr[i] = (PyArrayObject *)PyArray_FROMANY(given[i], NPY_DOUBLE, 1, 2,
                                                   NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
         if (!arr[i]) {
             PyErr_Clear();
@@ -80,8 +95,9 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                          (Py_ssize_t)PyArray_DIM(arr[i], d - 1));
             goto done;
         }
-        if (ndim < 0) { ndim = d; n = rows; }
-        else if (d != ndim || rows != n) {
+        if (d == 2) ndim = 2;  /* one (size,) sample mixes with a batch of one, as in numpy */
+        if (n < 0) n = rows;
+        else if (rows != n) {
             PyErr_Format(self->error, "inputs must have the same number of samples, got "
                          "%U: %zd, %U: %zd", PyTuple_GET_ITEM(self->names, 0), (Py_ssize_t)n,
                          PyTuple_GET_ITEM(self->names, i), (Py_ssize_t)rows);

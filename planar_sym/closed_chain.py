@@ -198,7 +198,7 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     """
     from scipy.integrate import solve_ivp
 
-    from .simulation import Simulation, dopri5, time_grid, torque_function
+    from .simulation import SCIPY_METHODS, Simulation, dopri5, time_grid, torque_function
 
     act, _ = partition(robot)
     n, m = robot.n, robot.n_constraints
@@ -208,10 +208,11 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     terms = SingleCall(robot.library.functions["constrained_terms"], robot.p)
     kkt = np.zeros((n + m, n + m))
     rhs_v = np.zeros(n + m)
-    count = [0]
+    count, last_t = [0], [t[0]]
 
     def rhs(tt, x):
         count[0] += 1
+        last_t[0] = tt
         M, h, jac, gamma = terms(x[:n], x[n:])
         jac = jac.reshape(n, m).T
         kkt[:n, :n] = M.reshape(n, n)
@@ -220,8 +221,14 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
         rhs_v[:n] = -h
         rhs_v[act] += tau_of(tt)
         rhs_v[n:] = gamma
-        return np.concatenate([x[n:], np.linalg.solve(kkt, rhs_v)[:n]])
+        qdd = np.linalg.solve(kkt, rhs_v)[:n]
+        if not np.all(np.isfinite(qdd)):  # else SciPy shrinks its step for ever
+            raise SimulationError(f"{robot.name}: accelerations became {qdd.tolist()} at "
+                                  f"t = {tt:.6g} s")
+        return np.concatenate([x[n:], qdd])
 
+    if method not in ("dopri5", *SCIPY_METHODS):
+        raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
     use_c = method == "dopri5" and not callable(torque)
     if method == "dopri5" and callable(torque):
         method = "DOP853"
@@ -241,7 +248,7 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
                             t_eval=t[k:end + 1], rtol=rtol, atol=atol)
             if not sol.success:
                 raise SimulationError(f"{robot.name}: integration failed at t = "
-                                      f"{sol.t[-1]:.6g} s: {sol.message}")
+                                      f"{last_t[0]:.6g} s: {sol.message}")
             ys = sol.y
         qs += list(ys[:n, 1:].T)
         qds += list(ys[n:, 1:].T)

@@ -278,8 +278,8 @@ class _Validator:
             self.err(fld, "missing")
         elif isinstance(v, bool) or not isinstance(v, (int, float)):
             self.err(fld, f"must be a number (got {v!r})")
-        elif not math.isfinite(v):
-            self.err(fld, f"must be finite (got {v!r})")
+        elif not _finite(v):
+            self.err(fld, f"must be finite (got {v!r:.40})")
         else:
             return float(v)
         return None
@@ -291,8 +291,8 @@ class _Validator:
         elif (not isinstance(v, list) or len(v) != 2
               or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)):
             self.err(fld, f"must be a list of two numbers [x, y] (got {v!r})")
-        elif not all(math.isfinite(x) for x in v):
-            self.err(fld, f"must be finite (got {v!r})")
+        elif not all(_finite(x) for x in v):
+            self.err(fld, f"must be finite (got {v!r:.60})")
         elif unit is not None:
             return (float(v[0]) * unit, float(v[1]) * unit)
         return (0.0, 0.0)
@@ -368,7 +368,7 @@ class _Validator:
                                      f"(got {cg_from!r})")
         frame = raw.get("frame", [next(iter(pts))] if pts else [])
         if (not isinstance(frame, list) or not 1 <= len(frame) <= 2
-                or any(p not in pts for p in frame)):
+                or any(not isinstance(p, str) or p not in pts for p in frame)):
             self.err(f"{f}.frame", f"must be [origin] or [origin, x_toward], naming its points "
                                    f"{sorted(pts)} (got {frame!r})")
             return None
@@ -507,8 +507,9 @@ class _Validator:
             self.err(f"task.{key}", f"unknown key (known: {', '.join(sorted(_TASK_KEYS))})")
         end = self._end(t, "point", "task", bodies) or ("", "")
         orient = t.get("orientation")
-        if orient is not None and orient not in bodies:
-            self.err("task.orientation", f"unknown body {orient!r}")
+        if orient is not None and (not isinstance(orient, str) or orient not in bodies):
+            self.err("task.orientation", f"must name a body (got {orient!r})")
+            orient = None
         return end, orient
 
 
@@ -516,6 +517,14 @@ def _to_body(xy, origin, angle: float) -> tuple[float, float]:
     dx, dy = xy[0] - origin[0], xy[1] - origin[1]
     c, s = math.cos(angle), math.sin(angle)
     return (_snap(c * dx + s * dy), _snap(-s * dx + c * dy))
+
+
+def _finite(v) -> bool:
+    """A TOML integer may exceed float range (1 followed by 400 zeros): that is not finite."""
+    try:
+        return math.isfinite(float(v))
+    except OverflowError:
+        return False
 
 
 def _snap(v: float) -> float:

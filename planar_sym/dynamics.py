@@ -31,7 +31,15 @@ class Parameter:
 
 def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> np.ndarray:
     """``a`` as a C-contiguous float64 (N, width) array; names the first bad sample."""
-    arr = np.asarray(a, dtype=np.float64)
+    try:
+        raw = np.asarray(a)
+        complex_ = np.iscomplexobj(raw)
+        arr = raw.astype(np.float64) if not complex_ else raw
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InputError(f"{name} must be an array of numbers of shape (N, {width}) or "
+                         f"({width},): {exc}") from None
+    if complex_:
+        raise InputError(f"{name} must be real, got complex values")
     if arr.ndim == 1:
         arr = arr[None, :]
     if arr.ndim != 2 or arr.shape[1] != width:
@@ -64,6 +72,9 @@ class Robot:
         self.q_drawn = np.array(m["q_drawn"])
         self.parameter_list = tuple(Parameter(**p) for p in m["parameters"])
         p = np.array([x.value for x in self.parameter_list]) if parameters is None else parameters
+        if np.ndim(p) != 1:
+            raise InputError(f"parameters must be a vector of {len(self.parameter_list)} values "
+                             f"(got shape {np.shape(p)})")
         self.p = as_samples("parameters", p, len(self.parameter_list))[0].copy()
         self._fns = self.library.functions
         #: exact: CasADi's per-sample functions compiled without fast math. Otherwise the
@@ -120,13 +131,16 @@ class Robot:
             if k not in names:
                 raise InputError(f"unknown parameter {k!r} of {self.name}; known: "
                                  f"{', '.join(names)}")
-            p[names.index(k)] = v
+            try:
+                p[names.index(k)] = float(v)
+            except (TypeError, ValueError, OverflowError):
+                raise InputError(f"parameter {k} must be a number (got {v!r})") from None
         return Robot(self.name, self.library, p, exact=self.exact)
 
     # -- evaluation --------------------------------------------------------------------------
     def _call(self, quantity: str, **arrays) -> tuple[dict[str, np.ndarray], bool]:
+        args = {k: as_samples(k, a, self.n) for k, a in arrays.items()}  # validates first
         single = all(np.ndim(a) == 1 for a in arrays.values())
-        args = {k: as_samples(k, a, self.n) for k, a in arrays.items()}
         sizes = {a.shape[0] for a in args.values()}
         if len(sizes) != 1:
             raise InputError(f"{', '.join(args)} must have the same number of samples, got "
@@ -193,7 +207,8 @@ class Robot:
 
     def task(self, q, qd=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Task coordinates x (m, rad), Jacobian J = dx/dq and Jdot qd at each sample."""
-        qd = np.zeros_like(np.asarray(q, dtype=float)) if qd is None else qd
+        q = as_samples("q", q, self.n) if np.ndim(q) != 1 else as_samples("q", q, self.n)[0]
+        qd = np.zeros_like(q) if qd is None else qd
         r, s = self._call("task", q=q, qd=qd)
         return self._out(r["x"], s), self._out(r["J"], s), self._out(r["jdot_qd"], s)
 

@@ -116,12 +116,15 @@ def compile_shared(sources: list[Path], target: Path, cflags, extra: tuple = (),
     Concurrent builders of the same target wait on the lock and then reuse the result, so no
     process ever loads a half-written library.
     """
-    if target.exists() and not force:
+    if _intact(target) and not force:
         return target
+    if target.exists() and not force:  # there, but not what was built: truncated or replaced
+        warnings.warn(f"compiled library {target} does not match the hash recorded when it was "
+                      "built (truncated or replaced): rebuilding it", RuntimeWarning, stacklevel=3)
     target.parent.mkdir(parents=True, exist_ok=True)
     with open(target.with_suffix(".lock"), "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
-        if target.exists() and not force:
+        if _intact(target) and not force:
             return target
         with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
             objs = []
@@ -132,12 +135,33 @@ def compile_shared(sources: list[Path], target: Path, cflags, extra: tuple = (),
                 objs.append(str(obj))
             out = Path(tmp) / target.name
             _run([_compiler(), "-shared", "-o", str(out), *objs, *link_flags], sources[0])
+            stamp = Path(tmp) / "stamp"
+            stamp.write_text(hashlib.sha256(out.read_bytes()).hexdigest())
+            os.replace(stamp, _stamp(target))  # stamp first: a crash between leaves a mismatch
             os.replace(out, target)
     return target
 
 
+def _stamp(target: Path) -> Path:
+    return target.with_name(target.name + ".sha256")
+
+
+def _intact(target: Path) -> bool:
+    """The library exists and matches the hash written when it was built. Checked before
+    dlopen: loading a truncated shared library kills the process with SIGBUS."""
+    try:
+        return (hashlib.sha256(target.read_bytes()).hexdigest()
+                == _stamp(target).read_text().strip())
+    except OSError:
+        return False
+
+
 def _run(cmd: list[str], src: Path) -> None:
-    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    except OSError as exc:
+        raise LibraryError(f"cannot run the C compiler {cmd[0]!r} ({exc.strerror}): install "
+                           "gcc, or set CC to a C compiler") from None
     if proc.returncode != 0:
         raise LibraryError(f"compiling {src} failed ({' '.join(cmd)}):\n{proc.stderr}")
 
@@ -280,7 +304,14 @@ class Library:
                           RuntimeWarning, stacklevel=2)
             simd_path = None
         if simd_path is not None:
-            self.simd = self._load(simd_path, f"{robot}_simd_input_hash")
+            try:
+                self.simd = self._load(simd_path, f"{robot}_simd_input_hash")
+            except CorruptLibrary as exc:
+                warnings.warn(f"compiled library {simd_path} could not be loaded "
+                              f"({exc.reason}): rebuilding it", RuntimeWarning, stacklevel=2)
+                simd_path = build_simd(self.folder, self.manifest, force=True)
+                self.simd = self._load(_fresh_name(simd_path), f"{robot}_simd_input_hash",
+                                       private_copy=True)
         self.functions = {
             q: BatchFunction(self.lib, FunctionSpec(
                 f["symbol"], tuple(map(tuple, f["inputs"])), tuple(map(tuple, f["outputs"]))))
@@ -351,8 +382,13 @@ def integrator():
     if _INTEGRATOR is None:
         src = _DIR / "_integrate.c"
         key = hashlib.sha256(src.read_bytes() + " ".join(CFLAGS).encode()).hexdigest()[:12]
-        lib = ctypes.CDLL(str(compile_shared([src], cache_dir() / f"_integrate-{key}.so",
-                                             CFLAGS)))
+        target = cache_dir() / f"_integrate-{key}.so"
+        try:
+            lib = ctypes.CDLL(str(compile_shared([src], target, CFLAGS)))
+        except OSError:  # built, yet unloadable: build it anew and load a private copy
+            fresh = _fresh_name(compile_shared([src], target, CFLAGS, force=True))
+            lib = ctypes.CDLL(str(fresh))
+            fresh.unlink()
         fn = lib.planar_sym_dopri5
         ptr = ctypes.c_void_p
         fn.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int, ptr, ptr, ptr,

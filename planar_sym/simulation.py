@@ -25,6 +25,7 @@ from .errors import InputError, SimulationError
 from .library import SingleCall, integrator
 
 Torque = None | float | np.ndarray | Callable[[float], np.ndarray]
+SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 
 
 @dataclass(frozen=True)
@@ -68,7 +69,11 @@ def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:
                                  f"expected {n} finite values (N*m)")
             return tau
         return checked
-    const = np.broadcast_to(np.asarray(torque, dtype=float), (n,)).copy()
+    try:
+        const = np.broadcast_to(np.asarray(torque, dtype=float), (n,)).copy()
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"torque must be None, {n} numbers (N*m) or a function of time "
+                         f"(got {torque!r}: {exc})") from None
     if not np.all(np.isfinite(const)):
         raise InputError(f"torque must be finite (got {const.tolist()})")
     return lambda t: const
@@ -111,12 +116,18 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
                           rtol, atol, n_rhs)
     method = "DOP853" if method == "dopri5" else method
+    if method not in SCIPY_METHODS:
+        raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
     fd = SingleCall(robot.library.functions["forward_dynamics"], robot.p)
-    count = [0]
+    count, last_t = [0], [t[0]]
 
     def rhs(tt, x):
         count[0] += 1
+        last_t[0] = tt
         (qdd,) = fd(x[:n], x[n:], tau_of(tt))
+        if not np.all(np.isfinite(qdd)):  # else SciPy shrinks its step for ever
+            raise SimulationError(f"{robot.name}: accelerations became {qdd.tolist()} at "
+                                  f"t = {tt:.6g} s (state {x.tolist()})")
         return np.concatenate([x[n:], qdd])
 
     jac = None
@@ -132,8 +143,7 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     sol = solve_ivp(rhs, (t[0], t[-1]), x0, method=method, t_eval=t, rtol=rtol, atol=atol,
                     **extra)
     if not sol.success:
-        t_fail = sol.t[-1] if sol.t.size else t[0]
-        raise SimulationError(f"{robot.name}: integration failed at t = {t_fail:.6g} s: "
+        raise SimulationError(f"{robot.name}: integration failed at t = {last_t[0]:.6g} s: "
                               f"{sol.message}")
     q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
     kin, pot = robot.energy(q, qd)

@@ -73,8 +73,10 @@ def _derive(out, *robots, seed: str) -> None:
 
 
 def _tree(folder) -> dict[str, bytes]:
+    """Every generated file by relative path; hidden ones (derive's lock files) are not output."""
     return {str(p.relative_to(folder)): p.read_bytes()
-            for p in sorted(folder.rglob("*")) if p.is_file()}
+            for p in sorted(folder.rglob("*"))
+            if p.is_file() and not any(part.startswith(".") for part in p.relative_to(folder).parts)}
 
 
 @pytest.mark.slow

@@ -83,7 +83,7 @@ def test_cached_library_of_another_robot_is_rebuilt(copy, cache):
     target = library_path(copy, read_manifest(copy))
     assert built.parent == target.parent == cache and built != target
     shutil.copyfile(built, target)
-    with pytest.warns(RuntimeWarning, match=r"could not be loaded.*rebuilding it"):
+    with pytest.warns(RuntimeWarning, match=r"does not match the hash.*rebuilding it"):
         lib = Library("serial_2dof", folder=copy)
     q = np.array([0.3, -0.4])
     # static torques at q: g1 = g (m1 lc1 + (mM + m2) a1) c1 + g m2 lc2 c12 (seed Table 1)

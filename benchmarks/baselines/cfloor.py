@@ -94,10 +94,14 @@ def compile_floor(robot: str, parameters: dict[str, float], workdir: Path | None
     workdir = Path(workdir or tempfile.mkdtemp(prefix="planar_sym_floor_"))
     src = HERE / SOURCES[robot]
     lib = workdir / f"{src.stem}.so"
-    cmd = [cc, *CFLAGS, "-o", str(lib), str(src), "-lm"]
-    proc = subprocess.run(cmd, check=False, capture_output=True, text=True)
-    if proc.returncode != 0:
-        raise RuntimeError(f"compiling {src} failed:\n{proc.stderr}")
+    # compile with fast math, link without: gcc 12 links crtfastmath.o into a -ffast-math
+    # -shared link, and loading the kernel would switch the whole process to flush-to-zero
+    obj = workdir / f"{src.stem}.o"
+    cmd = [cc, *[f for f in CFLAGS if f != "-shared"], "-c", "-o", str(obj), str(src)]
+    for step in (cmd, [cc, "-shared", "-o", str(lib), str(obj), "-lm"]):
+        proc = subprocess.run(step, check=False, capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise RuntimeError(f"compiling {src} failed:\n{proc.stderr}")
     n = 2 if robot == "serial_2dof" else 3
     fn = getattr(ctypes.CDLL(str(lib)), src.stem)
     fn.restype = None

@@ -1,0 +1,1206 @@
+"""The catalogue of bad inputs: every mistake a user can make, with the error they see.
+
+One table (``CATALOGUE``, built by the ``@bad`` entries below) drives both the test and the
+documentation: each entry is the input (what you did), the exception class, a regular expression
+the message must match, and an example of the message as a user sees it (paths shortened to the
+file name). ``test_catalogue`` makes each mistake and checks the class and the message;
+``test_docs_are_generated_from_the_catalogue`` checks that ``docs/errors.md`` is exactly what
+``render_markdown()`` produces from the same table, so the two cannot drift apart. Regenerate it
+with ``python tests/test_error_catalogue.py``.
+
+Many entries are also tested in depth elsewhere (``see``): tests/test_description_errors.py,
+tests/test_library_errors.py, tests/test_workspace_errors.py, tests/test_cli.py. Here each one is
+a row of the catalogue: what the user sees, and that the example in the docs is still true.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import sys
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+GENERATED = ROOT / "generated"
+ROBOTS = ROOT / "planar_sym" / "robots"
+TEST_ROBOTS = ROOT / "tests" / "robots"
+DOCS = ROOT / "docs" / "errors.md"
+if str(ROOT) not in sys.path:  # run as a script (regenerating docs/errors.md)
+    sys.path.insert(0, str(ROOT))
+
+import planar_sym as ps
+from planar_sym import closed_chain, description
+from planar_sym.dynamics import Robot
+from planar_sym.errors import (
+    DescriptionError,
+    InputError,
+    LibraryError,
+    SimulationError,
+    WorkspaceError,
+)
+from planar_sym.kinematics import inverse_kinematics
+from planar_sym.library import Library, build, build_simd, library_path, read_manifest
+from planar_sym.trajectory import coeff_3rd, cubic
+
+SERIAL = (ROBOTS / "serial_2dof.toml").read_text()
+FIVE_BAR = (ROBOTS / "five_bar_type1.toml").read_text()
+RRR = (ROBOTS / "parallel_3rrr.toml").read_text()
+
+DESC, ARRAYS, TRAJ, SIM, FILES, CLI = ("Robot descriptions", "Runtime arrays and parameters",
+                                       "Trajectories and inverse kinematics",
+                                       "Forward simulation", "Generated files and libraries",
+                                       "Command line")
+AREAS = (DESC, ARRAYS, TRAJ, SIM, FILES, CLI)
+
+
+class CommandFailed(Exception):
+    """A command-line call that returned a non-zero exit code; the message is its stderr."""
+
+
+class Warned(Exception):
+    """Stands for a warning (the call succeeded); the message is the warning's text."""
+
+
+@dataclass(frozen=True)
+class Bad:
+    id: str
+    area: str
+    did: str  # what the user did (Markdown)
+    exc: type  # exception class (CommandFailed: exit code 2; Warned: RuntimeWarning)
+    pattern: str  # regex that the message must match (re.search)
+    example: str  # the message as a user sees it (paths shortened)
+    run: Callable
+    see: str = ""  # where it is tested in depth
+
+    @property
+    def shown_class(self) -> str:
+        if self.exc is CommandFailed:
+            return "exit code 2, on stderr"
+        if self.exc is Warned:
+            return "RuntimeWarning (then works)"
+        return self.exc.__name__
+
+
+CATALOGUE: list[Bad] = []
+
+
+def bad(area: str, did: str, exc: type, pattern: str, example: str, see: str = ""):
+    def register(fn):
+        CATALOGUE.append(Bad(fn.__name__, area, did, exc, pattern, example, fn, see))
+        return fn
+    return register
+
+
+class Ctx:
+    """What an entry may use: a scratch folder and pytest's monkeypatch and capsys."""
+
+    def __init__(self, tmp: Path, monkeypatch, capsys):
+        self.tmp, self.monkeypatch, self.capsys = tmp, monkeypatch, capsys
+
+    def edited(self, text: str, *edits: tuple[str, str], name: str = "bad") -> Path:
+        for old, new in edits:
+            assert old in text, f"catalogue edit does not apply: {old!r}"
+            text = text.replace(old, new, 1)
+        path = self.tmp / f"{name}.toml"
+        path.write_text(text)
+        return path
+
+    def private_cache(self) -> Path:
+        cache = self.tmp / "cache"
+        self.monkeypatch.setenv("PLANAR_SYM_CACHE", str(cache))
+        return cache
+
+    def generated_copy(self, robot: str = "serial_2dof") -> Path:
+        dst = self.tmp / "generated" / robot
+        shutil.copytree(GENERATED / robot, dst)
+        return dst
+
+
+def _desc(ctx: Ctx, text: str, *edits) -> None:
+    description.load(ctx.edited(text, *edits))
+
+
+TD = "tests/test_description_errors.py::"
+TL = "tests/test_library_errors.py::"
+TW = "tests/test_workspace_errors.py::"
+
+# -- robot descriptions -------------------------------------------------------------------------
+
+
+@bad(DESC, "malformed TOML: `[units` (no closing bracket)", DescriptionError,
+     r"bad\.toml: not valid TOML: .*\(at line 10, column 7\)",
+     "bad.toml: not valid TOML: Expected ']' at the end of a table declaration (at line 10, "
+     "column 7)", TD + "test_malformed_toml")
+def toml_syntax(ctx):
+    _desc(ctx, SERIAL, ("[units]", "[units"))
+
+
+@bad(DESC, "unknown key, a typo: `mas = 0.071`", DescriptionError,
+     r"bad\.toml: bodies\[0\]\.mas: unknown key \(known: cg, cg_from, frame, izz, mass, name, "
+     r"notes, points\)(.|\n)*bodies\[0\] \(link1\)\.mass: missing",
+     "bad.toml: bodies[0].mas: unknown key (known: cg, cg_from, frame, izz, mass, name, notes, "
+     "points)\nbad.toml: bodies[0] (link1).mass: missing",
+     TD + "test_unknown_key_typo")
+def unknown_key(ctx):
+    _desc(ctx, SERIAL, ("mass = 0.071", "mas = 0.071"))
+
+
+@bad(DESC, "unknown top-level table `[colours]`", DescriptionError,
+     r"bad\.toml: colours: unknown key \(known: bodies, gravity, ground, joints, name, notes, "
+     r"symbols, task, title, units\)",
+     "bad.toml: colours: unknown key (known: bodies, gravity, ground, joints, name, notes, "
+     "symbols, task, title, units)")
+def unknown_table(ctx):
+    _desc(ctx, SERIAL, ("[ground]", "[colours]\nlink1 = \"red\"\n\n[ground]"))
+
+
+@bad(DESC, "missing field: a body without `izz`", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.izz: missing$",
+     "bad.toml: bodies[0] (link1).izz: missing", TD + "test_missing_field")
+def missing_field(ctx):
+    _desc(ctx, SERIAL, ("izz = 89.395\n", ""))
+
+
+@bad(DESC, "missing `[units]` table", DescriptionError,
+     r"bad\.toml: units: missing table \[units\] \(length, mass, inertia, angle, acceleration\)",
+     "bad.toml: units: missing table [units] (length, mass, inertia, angle, acceleration)")
+def missing_units(ctx):
+    _desc(ctx, SERIAL, (('[units]\nlength = "m"\nmass = "kg"\ninertia = "kg*mm^2"\n'
+                         'angle = "rad"\nacceleration = "m/s^2"\n'), ""))
+
+
+@bad(DESC, "wrong type: `mass = \"heavy\"`", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be a number \(got 'heavy'\)",
+     "bad.toml: bodies[0] (link1).mass: must be a number (got 'heavy')")
+def mass_string(ctx):
+    _desc(ctx, SERIAL, ("mass = 0.071", 'mass = "heavy"'))
+
+
+@bad(DESC, "wrong type: `points = \"CS1 CS2\"` (a string, not a table)", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.points: must be a non-empty table of name = \[x, y\]",
+     "bad.toml: bodies[0] (link1).points: must be a non-empty table of name = [x, y]")
+def points_string(ctx):
+    _desc(ctx, SERIAL, ("points = { CS1 = [0.0, 0.0], CS2 = [0.1, 0.0] }", 'points = "CS1 CS2"'))
+
+
+@bad(DESC, "wrong type: `cg = [0.0373]` (one number)", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.cg: must be a list of two numbers \[x, y\] "
+     r"\(got \[0\.0373\]\)",
+     "bad.toml: bodies[0] (link1).cg: must be a list of two numbers [x, y] (got [0.0373])")
+def cg_one_number(ctx):
+    _desc(ctx, SERIAL, ("cg = [0.0373, 0.0]", "cg = [0.0373]"))
+
+
+@bad(DESC, "wrong type: `gravity = \"down\"`", DescriptionError,
+     r"bad\.toml: gravity: must be a list of two numbers \[x, y\] \(got 'down'\)",
+     "bad.toml: gravity: must be a list of two numbers [x, y] (got 'down')")
+def gravity_string(ctx):
+    _desc(ctx, SERIAL, ("gravity = [0.0, -9.81]", 'gravity = "down"'))
+
+
+@bad(DESC, "wrong type: `actuated = \"yes\"`", DescriptionError,
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuated: must be true or false \(got 'yes'\)",
+     "bad.toml: joints[0] (joint1).actuated: must be true or false (got 'yes')")
+def actuated_string(ctx):
+    _desc(ctx, SERIAL, ("actuated = true", 'actuated = "yes"'))
+
+
+@bad(DESC, "zero mass: `mass = 0.0`", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be > 0 \(got 0\.0\)",
+     "bad.toml: bodies[0] (link1).mass: must be > 0 (got 0.0)", TD + "test_non_positive_mass")
+def zero_mass(ctx):
+    _desc(ctx, SERIAL, ("mass = 0.071", "mass = 0.0"))
+
+
+@bad(DESC, "negative mass: `mass = -0.071`", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be > 0 \(got -0\.071\)",
+     "bad.toml: bodies[0] (link1).mass: must be > 0 (got -0.071)", TD + "test_non_positive_mass")
+def negative_mass(ctx):
+    _desc(ctx, SERIAL, ("mass = 0.071", "mass = -0.071"))
+
+
+@bad(DESC, "not a finite number: `mass = nan`", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be finite \(got nan\)",
+     "bad.toml: bodies[0] (link1).mass: must be finite (got nan)")
+def nan_mass(ctx):
+    _desc(ctx, SERIAL, ("mass = 0.071", "mass = nan"))
+
+
+@bad(DESC, "negative inertia: `izz = -109.864`", DescriptionError,
+     r"bad\.toml: bodies\[2\] \(link2\)\.izz: must be >= 0 \(got -109\.864\)",
+     "bad.toml: bodies[2] (link2).izz: must be >= 0 (got -109.864)", TD + "test_negative_inertia")
+def negative_inertia(ctx):
+    _desc(ctx, SERIAL, ("izz = 109.864", "izz = -109.864"))
+
+
+@bad(DESC, "zero inertia on a body with extent: link2 `izz = 0.0`", DescriptionError,
+     r"bad\.toml: bodies\[2\] \(link2\)\.izz: must be > 0 for a body with extent \(its points "
+     r"reach 58\.32 mm from its centre of gravity\); only a body with a single point may be a "
+     r"point mass",
+     "bad.toml: bodies[2] (link2).izz: must be > 0 for a body with extent (its points reach "
+     "58.32 mm from its centre of gravity); only a body with a single point may be a point mass")
+def zero_inertia(ctx):
+    _desc(ctx, SERIAL, ("izz = 109.864", "izz = 0.0"))
+
+
+@bad(DESC, "implausible inertia: the seed's 3-RRR typo `izz = 90992` (kg*mm^2) on Link1_2",
+     DescriptionError,
+     r"bad\.toml: bodies\[1\] \(Link1_2\)\.izz: implausible: 90992 kg\*mm\^2 gives a radius of "
+     r"gyration of 1422 mm for a body whose points reach [0-9.]+ mm from its centre of gravity "
+     r"\(more than 3 times\); a unit or decimal-point slip\?",
+     "bad.toml: bodies[1] (Link1_2).izz: implausible: 90992 kg*mm^2 gives a radius of gyration "
+     "of 1422 mm for a body whose points reach 50 mm from its centre of gravity (more than 3 "
+     "times); a unit or decimal-point slip?")
+def inertia_typo_3rrr(ctx):
+    _desc(ctx, RRR, ("izz = 90.992", "izz = 90992"))
+
+
+@bad(DESC, "unit slip: `inertia = \"kg*m^2\"` with the table's kg*mm^2 values", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.izz: implausible: 89\.395 kg\*m\^2 gives a radius of "
+     r"gyration of 3\.548e\+04 mm",
+     "bad.toml: bodies[0] (link1).izz: implausible: 89.395 kg*m^2 gives a radius of gyration of "
+     "3.548e+04 mm for a body whose points reach 62.7 mm from its centre of gravity (more than 3 "
+     "times); a unit or decimal-point slip?")
+def inertia_unit_slip(ctx):
+    _desc(ctx, SERIAL, ('inertia = "kg*mm^2"', 'inertia = "kg*m^2"'))
+
+
+@bad(DESC, "duplicate body name (link2 named `link1`)", DescriptionError,
+     r"bad\.toml: bodies\[2\]\.name: duplicate body name 'link1'",
+     "bad.toml: bodies[2].name: duplicate body name 'link1'", TD + "test_duplicate_body_name")
+def duplicate_body(ctx):
+    _desc(ctx, SERIAL, ('name = "link2"', 'name = "link1"'))
+
+
+@bad(DESC, "duplicate joint name (joint2 named `joint1`)", DescriptionError,
+     r"bad\.toml: joints: duplicate joint name 'joint1'",
+     "bad.toml: joints: duplicate joint name 'joint1'")
+def duplicate_joint(ctx):
+    _desc(ctx, SERIAL, ('name = "joint2"', 'name = "joint1"'))
+
+
+@bad(DESC, "joint refers to an unknown body: `child = \"link9.CS1\"`", DescriptionError,
+     r"bad\.toml: joints\[2\] \(joint2\)\.child: unknown body 'link9' \(known: ground, link1, "
+     r"motor2, link2\)",
+     "bad.toml: joints[2] (joint2).child: unknown body 'link9' (known: ground, link1, motor2, "
+     "link2)", TD + "test_unknown_body_in_a_joint")
+def joint_unknown_body(ctx):
+    _desc(ctx, SERIAL, ('child = "link2.CS1"', 'child = "link9.CS1"'))
+
+
+@bad(DESC, "joint refers to an unknown point: `child = \"link2.CS9\"`", DescriptionError,
+     r"bad\.toml: joints\[2\] \(joint2\)\.child: body 'link2' has no point 'CS9' \(it has CS1, "
+     r"CS2\)",
+     "bad.toml: joints[2] (joint2).child: body 'link2' has no point 'CS9' (it has CS1, CS2)",
+     TD + "test_unknown_point")
+def joint_unknown_point(ctx):
+    _desc(ctx, SERIAL, ('child = "link2.CS1"', 'child = "link2.CS9"'))
+
+
+@bad(DESC, "task point on an unknown body: `point = \"link3.CS2\"`", DescriptionError,
+     r"bad\.toml: task\.point: unknown body 'link3'",
+     "bad.toml: task.point: unknown body 'link3' (known: ground, link1, motor2, link2)")
+def task_unknown_body(ctx):
+    _desc(ctx, SERIAL, ('point = "link2.CS2"', 'point = "link3.CS2"'))
+
+
+@bad(DESC, "joint type `prismatic`", DescriptionError,
+     r"bad\.toml: joints\[0\] \(joint1\)\.type: must be 'revolute' or 'weld' \(got 'prismatic'\)",
+     "bad.toml: joints[0] (joint1).type: must be 'revolute' or 'weld' (got 'prismatic')")
+def joint_type(ctx):
+    _desc(ctx, SERIAL, ('type = "revolute"', 'type = "prismatic"'))
+
+
+@bad(DESC, "an actuated weld", DescriptionError,
+     r"bad\.toml: joints\[1\] \(weld_motor2\): a weld can be neither actuated nor a loop closure",
+     "bad.toml: joints[1] (weld_motor2): a weld can be neither actuated nor a loop closure")
+def actuated_weld(ctx):
+    _desc(ctx, SERIAL, ('child = "motor2.CS1"', 'child = "motor2.CS1"\nactuated = true'))
+
+
+@bad(DESC, "disconnected kinematic graph: the motor's weld joint deleted", DescriptionError,
+     r"bad\.toml: joints: bodies \['motor2'\] are not connected to ground by a chain of joints "
+     r"\(the kinematic graph is disconnected\)",
+     "bad.toml: joints: bodies ['motor2'] are not connected to ground by a chain of joints (the "
+     "kinematic graph is disconnected)")
+def disconnected(ctx):
+    _desc(ctx, SERIAL, (('[[joints]]\nname = "weld_motor2"\ntype = "weld"\n'
+                         'parent = "link1.CS2"\nchild = "motor2.CS1"\n'), ""))
+
+
+@bad(DESC, "ground made a child: joint1 `parent`/`child` swapped", DescriptionError,
+     r"bad\.toml: joints: ground is the child of \['joint1'\]; ground is the root of the tree, "
+     r"make it the parent",
+     "bad.toml: joints: ground is the child of ['joint1']; ground is the root of the tree, make "
+     "it the parent")
+def ground_child(ctx):
+    _desc(ctx, SERIAL, ('parent = "ground.O"\nchild = "link1.CS1"',
+                        'parent = "link1.CS1"\nchild = "ground.O"'))
+
+
+@bad(DESC, "a closed chain without `closes_loop = true` on its cut joint (5-bar, joint C)",
+     DescriptionError,
+     r"bad\.toml: joints: body 'R_Link2' is the child of several joints \['D', 'C'\]: mark all "
+     r"but one closes_loop = true",
+     "bad.toml: joints: body 'R_Link2' is the child of several joints ['D', 'C']: mark all but "
+     "one closes_loop = true")
+def loop_not_cut(ctx):
+    _desc(ctx, FIVE_BAR, ("closes_loop = true", "closes_loop = false"))
+
+
+@bad(DESC, "a loop that does not close: 5-bar R_Link2.CS2 moved 1 mm", DescriptionError,
+     r"bad\.toml: joints \(C\): loop does not close in the drawn configuration: L_Link2\.CS2 and "
+     r"R_Link2\.CS2 are 1 mm apart \(tolerance 0\.01 mm\)",
+     "bad.toml: joints (C): loop does not close in the drawn configuration: L_Link2.CS2 and "
+     "R_Link2.CS2 are 1 mm apart (tolerance 0.01 mm)", TD + "test_loop_that_does_not_close")
+def open_loop(ctx):
+    _desc(ctx, FIVE_BAR, ("CS2 = [0.037, 0.140] }\nframe", "CS2 = [0.038, 0.140] }\nframe"))
+
+
+@bad(DESC, "a joint that does not close: link2.CS1 drawn 2 mm from link1.CS2", DescriptionError,
+     r"bad\.toml: joints \(joint2\): joint does not close in the drawn configuration: link1\.CS2 "
+     r"and link2\.CS1 are 2 mm apart \(tolerance 0\.01 mm\)",
+     "bad.toml: joints (joint2): joint does not close in the drawn configuration: link1.CS2 and "
+     "link2.CS1 are 2 mm apart (tolerance 0.01 mm)")
+def open_joint(ctx):
+    _desc(ctx, SERIAL, ("points = { CS1 = [0.1, 0.0], CS2 = [0.2, 0.0] }",
+                        "points = { CS1 = [0.102, 0.0], CS2 = [0.2, 0.0] }"))
+
+
+@bad(DESC, "unknown length unit `\"in\"`", DescriptionError,
+     r"bad\.toml: units\.length: unknown length unit 'in'; known: m, cm, mm \(got 'in'\)",
+     "bad.toml: units.length: unknown length unit 'in'; known: m, cm, mm (got 'in')",
+     TD + "test_unknown_length_unit")
+def unit_length(ctx):
+    _desc(ctx, SERIAL, ('length = "m"', 'length = "in"'))
+
+
+@bad(DESC, "unknown mass unit `\"lb\"`", DescriptionError,
+     r"bad\.toml: units\.mass: unknown mass unit 'lb'; known: kg, g \(got 'lb'\)",
+     "bad.toml: units.mass: unknown mass unit 'lb'; known: kg, g (got 'lb')",
+     TD + "test_unknown_mass_or_inertia_unit")
+def unit_mass(ctx):
+    _desc(ctx, SERIAL, ('mass = "kg"', 'mass = "lb"'))
+
+
+@bad(DESC, "unknown inertia unit `\"kg*in^2\"`", DescriptionError,
+     r"bad\.toml: units\.inertia: unknown inertia unit 'kg\*in\^2'; known: kg\*m\^2, kg\*cm\^2, "
+     r"kg\*mm\^2, g\*mm\^2, g\*cm\^2",
+     "bad.toml: units.inertia: unknown inertia unit 'kg*in^2'; known: kg*m^2, kg*cm^2, kg*mm^2, "
+     "g*mm^2, g*cm^2 (got 'kg*in^2')", TD + "test_unknown_mass_or_inertia_unit")
+def unit_inertia(ctx):
+    _desc(ctx, SERIAL, ('inertia = "kg*mm^2"', 'inertia = "kg*in^2"'))
+
+
+@bad(DESC, "unknown angle unit `\"grad\"`", DescriptionError,
+     r"bad\.toml: units\.angle: unknown angle unit 'grad'; known: rad, deg \(got 'grad'\)",
+     "bad.toml: units.angle: unknown angle unit 'grad'; known: rad, deg (got 'grad')")
+def unit_angle(ctx):
+    _desc(ctx, SERIAL, ('angle = "rad"', 'angle = "grad"'))
+
+
+@bad(DESC, "a teaching symbol for a parameter that does not exist (`m_link7`)", DescriptionError,
+     r"bad\.toml: symbols\.m_link7: not a parameter of this robot",
+     "bad.toml: symbols.m_link7: not a parameter of this robot")
+def unknown_symbol(ctx):
+    _desc(ctx, SERIAL, ('m_link1 = "m_1"', 'm_link7 = "m_1"'))
+
+
+@bad(DESC, "an unknown built-in robot name: `description.load(\"six_bar\")`", DescriptionError,
+     r"unknown robot 'six_bar'; built in: .*five_bar_type1, .*serial_2dof, serial_3dof",
+     "unknown robot 'six_bar'; built in: five_bar_type1, five_bar_type2, parallel_3rrr, "
+     "serial_2dof, serial_3dof")
+def unknown_builtin(ctx):
+    description.load("six_bar")
+
+
+# -- runtime arrays and parameters ----------------------------------------------------------------
+
+def _arm() -> Robot:
+    return ps.load("serial_2dof")
+
+
+@bad(ARRAYS, "wrong shape: `q` of shape (10, 3) for the 2-joint arm", InputError,
+     r"q must have shape \(N, 2\) or \(2,\), got last axis 3",
+     "q must have shape (N, 2) or (2,), got last axis 3", TL + "test_wrong_shape")
+def shape_width(ctx):
+    z = np.zeros((10, 3))
+    _arm().inverse_dynamics(z, z, z)
+
+
+@bad(ARRAYS, "wrong shape on the exact path (`Robot(name, exact=True)`): (10, 3)", InputError,
+     r"q must have shape \(N, 2\) or \(2,\), got \(10, 3\)",
+     "q must have shape (N, 2) or (2,), got (10, 3)", TL + "test_wrong_shape")
+def shape_width_exact(ctx):
+    z = np.zeros((10, 3))
+    Robot("serial_2dof", _arm().library, exact=True).inverse_dynamics(z, z, z)
+
+
+@bad(ARRAYS, "wrong shape: a 3-D array (2, 5, 2)", InputError,
+     r"q must be a float array of shape \(N, 2\) or \(2,\)",
+     "q must be a float array of shape (N, 2) or (2,)", TL + "test_wrong_shape")
+def shape_3d(ctx):
+    _arm().mass_matrix(np.zeros((2, 5, 2)))
+
+
+@bad(ARRAYS, "sample counts differ: q (4, 2), qd (5, 2)", InputError,
+     r"inputs must have the same number of samples, got q: 4, qd: 5",
+     "inputs must have the same number of samples, got q: 4, qd: 5",
+     TL + "test_sample_counts_must_agree")
+def sample_counts(ctx):
+    _arm().inverse_dynamics(np.zeros((4, 2)), np.zeros((5, 2)), np.zeros((4, 2)))
+
+
+@bad(ARRAYS, "NaN in an input array: `qd[7, 1] = nan`", InputError,
+     r"qd\[7, 1\] is nan at sample 7: inputs must be finite",
+     "qd[7, 1] is nan at sample 7: inputs must be finite", TL + "test_nan_input_names_the_sample")
+def nan_sample(ctx):
+    q = np.zeros((10, 2))
+    qd = q.copy()
+    qd[7, 1] = np.nan
+    _arm().inverse_dynamics(q, qd, q)
+
+
+@bad(ARRAYS, "infinity in an input array: `q[3, 0] = inf`", InputError,
+     r"q\[3, 0\] is inf at sample 3: inputs must be finite",
+     "q[3, 0] is inf at sample 3: inputs must be finite", TL + "test_nan_input_names_the_sample")
+def inf_sample(ctx):
+    q = np.zeros((10, 2))
+    q[3, 0] = np.inf
+    _arm().mass_matrix(q)
+
+
+@bad(ARRAYS, "infinity in a closed chain's q with times given (3-RRR, sample 2)", InputError,
+     r"q\[2, 0\] is inf at sample 2 \(t = 0\.2 s\): inputs must be finite",
+     "q[2, 0] is inf at sample 2 (t = 0.2 s): inputs must be finite",
+     TW + "test_nan_time_named_for_positions")
+def inf_sample_timed(ctx):
+    robot = ps.load("parallel_3rrr")
+    q = np.tile(robot.q_drawn, (4, 1))
+    q[2, 0] = np.inf
+    z = np.zeros_like(q)
+    robot.closed_chain_inverse_dynamics(q, z, z, t=np.array([0.0, 0.1, 0.2, 0.3]))
+
+
+@bad(ARRAYS, "parameter vector of the wrong length: `Robot(\"serial_2dof\", library, "
+     "parameters=np.ones(10))`", InputError,
+     r"parameters must have shape \(N, 11\) or \(11,\), got \(10,\)",
+     "parameters must have shape (N, 11) or (11,), got (10,)")
+def parameter_length(ctx):
+    Robot("serial_2dof", _arm().library, parameters=np.ones(10))
+
+
+@bad(ARRAYS, "a NaN parameter: `with_parameters(m_link1=nan)`", InputError,
+     r"parameters\[0, 1\] is nan at sample 0: inputs must be finite",
+     "parameters[0, 1] is nan at sample 0: inputs must be finite")
+def parameter_nan(ctx):
+    _arm().with_parameters(m_link1=float("nan"))
+
+
+@bad(ARRAYS, "unknown parameter: `with_parameters(m_link9=1.0)`", InputError,
+     r"unknown parameter 'm_link9' of serial_2dof; known: g, m_link1, izz_link1, cgx_link1, "
+     r"m_motor2, izz_motor2, m_link2, izz_link2, cgx_link2, px_link1_CS2, px_link2_CS2",
+     "unknown parameter 'm_link9' of serial_2dof; known: g, m_link1, izz_link1, cgx_link1, "
+     "m_motor2, izz_motor2, m_link2, izz_link2, cgx_link2, px_link1_CS2, px_link2_CS2",
+     TL + "test_unknown_parameter_and_closed_chain_misuse")
+def parameter_unknown(ctx):
+    _arm().with_parameters(m_link9=1.0)
+
+
+@bad(ARRAYS, "`inverse_dynamics` on a closed chain", InputError,
+     r"five_bar_type1 is a closed chain: use closed_chain_inverse_dynamics \(torques and loop "
+     r"reaction forces together\)",
+     "five_bar_type1 is a closed chain: use closed_chain_inverse_dynamics (torques and loop "
+     "reaction forces together)", TL + "test_unknown_parameter_and_closed_chain_misuse")
+def closed_inverse(ctx):
+    z = np.zeros(4)
+    ps.load("five_bar_type1").inverse_dynamics(z, z, z)
+
+
+@bad(ARRAYS, "`forward_dynamics` on a closed chain", InputError,
+     r"five_bar_type1 is a closed chain: use planar_sym\.simulate, which keeps the loop "
+     r"constraints",
+     "five_bar_type1 is a closed chain: use planar_sym.simulate, which keeps the loop constraints")
+def closed_forward(ctx):
+    z = np.zeros(4)
+    ps.load("five_bar_type1").forward_dynamics(z, z, z)
+
+
+# -- trajectories and inverse kinematics ------------------------------------------------------------
+
+T = 2.0
+TIMES = np.linspace(0.0, T, 9)
+
+
+def _ik(robot: str, x0, dx, t=TIMES):
+    return inverse_kinematics(ps.load(robot), cubic(x0, dx, T, t))
+
+
+@bad(TRAJ, "target outside the workspace: 2-DOF tip from (100, 100) mm by +300 mm in x",
+     WorkspaceError,
+     r"serial_2dof: target \(x = 194\.922 mm, y = 100 mm\) at t = 0\.75 s \(sample 3\) is "
+     r"outside the workspace \(cos of the elbow angle would be 1\.39973, beyond \+-1\)",
+     "serial_2dof: target (x = 194.922 mm, y = 100 mm) at t = 0.75 s (sample 3) is outside the "
+     "workspace (cos of the elbow angle would be 1.39973, beyond +-1)",
+     TW + "test_serial_2dof_beyond_reach")
+def outside_workspace(ctx):
+    _ik("serial_2dof", [0.1, 0.1], [0.3, 0.0])
+
+
+@bad(TRAJ, "target outside a closed chain's workspace: 5-bar P by +200 mm in x",
+     WorkspaceError,
+     r"five_bar_type1: target \(x = [0-9.]+ mm, y = 154\.665 mm\) at t = [0-9.]+ s \(sample \d\) "
+     r"is outside the workspace \((left|right) arm: cos of the elbow angle would be",
+     "five_bar_type1: target (x = 197.571 mm, y = 154.665 mm) at t = 1.25 s (sample 5) is "
+     "outside the workspace (left arm: cos of the elbow angle would be 1.42858, beyond +-1)",
+     TW + "test_five_bar_type1_beyond_reach")
+def outside_workspace_five_bar(ctx):
+    _ik("five_bar_type1", [0.060852, 0.154665], [0.2, 0.0])
+
+
+@bad(TRAJ, "a 3-RRR leg that cannot reach: platform by +200 mm in x", WorkspaceError,
+     r"parallel_3rrr: target \(x = 100 mm, y = 0 mm, phi = 0 rad\) at t = 1 s \(sample 4\) is "
+     r"outside the workspace \(leg 2 cannot reach: e1\^2 \+ e2\^2 - e3\^2 = -?[0-9.e-]+ < 0\)",
+     "parallel_3rrr: target (x = 100 mm, y = 0 mm, phi = 0 rad) at t = 1 s (sample 4) is outside "
+     "the workspace (leg 2 cannot reach: e1^2 + e2^2 - e3^2 = -0.000136 < 0)",
+     TW + "test_parallel_3rrr_error_names_the_earliest_time")
+def leg_cannot_reach(ctx):
+    _ik("parallel_3rrr", [0.0, 0.0, 0.0], [0.2, 0.0, 0.0])
+
+
+@bad(TRAJ, "joint limit: 2-DOF tip toward |p| = 195 mm needs q2 < 30 deg", WorkspaceError,
+     r"serial_2dof: target \(x = [0-9.]+ mm, y = [0-9.]+ mm\) at t = [0-9.]+ s \(sample \d\) "
+     r"violates the joint limit 30 <= q2 <= 150 deg \(q2 = [0-9.]+ deg\)",
+     "serial_2dof: target (x = 137.886 mm, y = 137.886 mm) at t = 2 s (sample 8) violates the "
+     "joint limit 30 <= q2 <= 150 deg (q2 = 25.6771 deg)", TW + "test_serial_2dof_elbow_joint_limit")
+def joint_limit_q2(ctx):
+    end = 0.195 / np.sqrt(2) * np.ones(2)
+    _ik("serial_2dof", [0.1, 0.1], end - [0.1, 0.1])
+
+
+@bad(TRAJ, "joint limit: 2-DOF tip toward (-50, -50) mm needs q1 < 0", WorkspaceError,
+     r"serial_2dof: target \(x = -?[0-9.]+ mm, y = -?[0-9.]+ mm\) at t = [0-9.]+ s \(sample \d\) "
+     r"violates the joint limit 0 <= q1 <= 180 deg \(q1 = [0-9.]+ deg\)",
+     "serial_2dof: target (x = 93.5547 mm, y = 93.5547 mm) at t = 0.25 s (sample 1) violates "
+     "the joint limit 0 <= q1 <= 180 deg (q1 = 356.417 deg)", TW + "test_serial_2dof_shoulder_joint_limit")
+def joint_limit_q1(ctx):
+    _ik("serial_2dof", [0.1, 0.1], [-0.15, -0.15])
+
+
+@bad(TRAJ, "singular pose: 3-DOF tool driven until the arm is stretched (q2 = 0)",
+     WorkspaceError,
+     r"serial_3dof: target \(x = 220 mm, y = 0 mm, phi = 0 rad\) at t = 2 s \(sample 8\) is at a "
+     r"singular pose \(Jacobian condition number [0-9.e+inf]+ > 1e\+06\)",
+     "serial_3dof: target (x = 220 mm, y = 0 mm, phi = 0 rad) at t = 2 s (sample 8) is at a "
+     "singular pose (Jacobian condition number 1.32e+09 > 1e+06)",
+     TW + "test_serial_3dof_driven_to_stretched_arm")
+def singular_pose(ctx):
+    _ik("serial_3dof", [0.1, 0.0, 0.0], [0.12, 0.0, 0.0])
+
+
+@bad(TRAJ, "singular pose of a closed chain driven by its actuated joints (5-bar Type II, "
+     "distal links in line)", WorkspaceError,
+     r"five_bar_type2: singular pose at t = 1 s \(sample 4\): the passive-joint constraint "
+     r"Jacobian Phi_p .*condition number [0-9.e+inf]+ > 1e\+06",
+     "five_bar_type2: singular pose at t = 1 s (sample 4): the passive-joint constraint Jacobian "
+     "Phi_p has condition number 1.66e+06 > 1e+06",
+     TW + "test_five_bar_type2_actuated_route_to_parallel_singularity")
+def singular_closed(ctx):
+    t = np.linspace(0.0, 1.0, 5)
+    tr = cubic([0.0, np.pi / 2], [np.pi / 2, 0.0], 1.0, t)
+    closed_chain.from_actuated(ps.load("five_bar_type2"), t, tr.x, tr.xd, tr.xdd)
+
+
+@bad(TRAJ, "closed-chain torques at a singular pose (actuation matrix)", WorkspaceError,
+     r"five_bar_type2: singular pose at t = 0\.5 s \(sample 0\): the .*\[S\^T Phi_q\^T\].* "
+     r"condition number [0-9.e+inf]+ > 1e\+06",
+     "five_bar_type2: singular pose at t = 0.5 s (sample 0): the passive-joint constraint "
+     "Jacobian Phi_p (which the actuation matrix [S^T Phi_q^T] needs) has 1-norm condition "
+     "number 1.63e+16 > 1e+06",
+     TW + "test_closed_chain_inverse_dynamics_at_parallel_singularity")
+def singular_actuation(ctx):
+    q = np.array([[np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2]])
+    z = np.zeros_like(q)
+    ps.load("five_bar_type2").closed_chain_inverse_dynamics(q, z, z, t=np.array([0.5]))
+
+
+@bad(TRAJ, "zero duration: `cubic(x0, dx, 0.0, t)`", InputError,
+     r"trajectory duration must be a positive number of seconds \(got 0\.0\)",
+     "trajectory duration must be a positive number of seconds (got 0.0)",
+     TW + "test_non_positive_duration")
+def zero_duration(ctx):
+    cubic([0.1, 0.1], [0.05, 0.0], 0.0, [0.0])
+
+
+@bad(TRAJ, "negative duration: `coeff_3rd(..., -1.0)`", InputError,
+     r"trajectory duration must be a positive number of seconds \(got -1\.0\)",
+     "trajectory duration must be a positive number of seconds (got -1.0)",
+     TW + "test_non_positive_duration")
+def negative_duration(ctx):
+    coeff_3rd([0.0], [0.0], [1.0], [0.0], -1.0)
+
+
+@bad(TRAJ, "sample times outside the trajectory: t = 2.5 s for a 2 s move", InputError,
+     r"time t = 2\.5 s \(sample 1\) is outside the trajectory \[0, 2\.0\] s",
+     "time t = 2.5 s (sample 1) is outside the trajectory [0, 2.0] s",
+     TW + "test_times_outside_trajectory")
+def time_outside(ctx):
+    cubic([0.1], [0.05], 2.0, [0.0, 2.5])
+
+
+@bad(TRAJ, "start and displacement of different lengths", InputError,
+     r"x0 and dx must have the same length \(got 2 and 3\)",
+     "x0 and dx must have the same length (got 2 and 3)")
+def length_mismatch(ctx):
+    cubic([0.1, 0.1], [0.05, 0.0, 0.0], 2.0, [0.0])
+
+
+@bad(TRAJ, "NaN in a trajectory's start", InputError,
+     r"trajectory start must be finite \(got \[nan, 0\.1\]\)",
+     "trajectory start must be finite (got [nan, 0.1])")
+def nan_start(ctx):
+    cubic([np.nan, 0.1], [0.05, 0.0], 2.0, [0.0])
+
+
+@bad(TRAJ, "inverse kinematics for a robot without a closed form (your own pendulum)",
+     WorkspaceError,
+     r"no closed-form inverse kinematics for pendulum; built in for serial_2dof, serial_3dof",
+     "no closed-form inverse kinematics for pendulum; built in for serial_2dof, serial_3dof, "
+     "five_bar_type1, five_bar_type2, parallel_3rrr")
+def no_ik(ctx):
+    from derive.__main__ import main as derive_main
+
+    ctx.private_cache()
+    assert derive_main([str(TEST_ROBOTS / "pendulum.toml"), "--out", str(ctx.tmp), "--quiet"]) == 0
+    robot = Robot("pendulum", Library("pendulum", folder=ctx.tmp / "pendulum"), exact=True)
+    inverse_kinematics(robot, cubic([0.1, 0.0], [0.0, 0.1], 1.0, [0.0, 1.0]))
+
+
+# -- forward simulation ---------------------------------------------------------------------------
+
+@bad(SIM, "`max_steps` too small: `simulate(arm, q0, qd0, (0, 1), max_steps=5)`",
+     SimulationError,
+     r"serial_2dof: integration failed at t = [0-9.e-]+ s: too many steps \(raise max_steps or "
+     r"loosen the tolerances\)",
+     "serial_2dof: integration failed at t = 0.002 s: too many steps (raise max_steps or "
+     "loosen the tolerances)")
+def max_steps(ctx):
+    ps.simulate(_arm(), np.radians([-60.0, 0.0]), [0.0, 0.0], (0.0, 1.0), max_steps=5)
+
+
+@bad(SIM, "an impossible tolerance: `rtol = atol = 1e-300`", SimulationError,
+     r"serial_2dof: integration failed at t = 0 s: the step size fell below 1e-14 s: the problem "
+     r"is stiff or singular here",
+     "serial_2dof: integration failed at t = 0 s: the step size fell below 1e-14 s: the problem "
+     "is stiff or singular here")
+def tiny_tolerance(ctx):
+    ps.simulate(_arm(), np.radians([-60.0, 0.0]), [0.0, 0.0], (0.0, 1.0), rtol=1e-300,
+                atol=1e-300)
+
+
+@bad(SIM, "a closed chain with a tiny `drift_limit_m` (1e-20 m)", SimulationError,
+     r"five_bar_type1: the loops drifted apart by [0-9.e-]+ m between t = 0 s and 0\.1 s "
+     r"\(limit 1e-20 m\): tighten rtol/atol or shorten segment_s",
+     "five_bar_type1: the loops drifted apart by 7.44e-14 m between t = 0 s and 0.1 s (limit "
+     "1e-20 m): tighten rtol/atol or shorten segment_s; near a singular pose the constraints "
+     "cannot hold")
+def drift_limit(ctx):
+    five = ps.load("five_bar_type1")
+    closed_chain.simulate_closed(five, five.q_drawn, np.zeros(4), (0.0, 1.0), drift_limit_m=1e-20)
+
+
+@bad(SIM, "non-positive tolerance: `rtol=0`", InputError,
+     r"tolerances must be positive \(rtol 0, atol 1e-12\)",
+     "tolerances must be positive (rtol 0, atol 1e-12)")
+def zero_tolerance(ctx):
+    ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0.0, 1.0), rtol=0)
+
+
+@bad(SIM, "an empty time span `(1, 1)`", InputError,
+     r"time span must be finite with end > start \(got \(1, 1\)\)",
+     "time span must be finite with end > start (got (1, 1))")
+def empty_span(ctx):
+    ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (1, 1))
+
+
+@bad(SIM, "`t_eval` not increasing", InputError,
+     r"t_eval must be increasing times inside \(0, 1\)",
+     "t_eval must be increasing times inside (0, 1)")
+def bad_t_eval(ctx):
+    ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0, 1), t_eval=[0.5, 0.2])
+
+
+@bad(SIM, "a NaN initial velocity", InputError,
+     r"qd0\[0, 0\] is nan at sample 0: inputs must be finite",
+     "qd0[0, 0] is nan at sample 0: inputs must be finite")
+def nan_initial(ctx):
+    ps.simulate(_arm(), [0.0, 0.0], [np.nan, 0.0], (0, 1))
+
+
+@bad(SIM, "a torque function returning 3 values for 2 joints", InputError,
+     r"torque function returned array\(\[1\., 2\., 3\.\]\) at t = 0 s; expected 2 finite values "
+     r"\(N\*m\)",
+     "torque function returned array([1., 2., 3.]) at t = 0 s; expected 2 finite values (N*m)")
+def torque_shape(ctx):
+    ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0, 1), torque=lambda t: [1, 2, 3])
+
+
+@bad(SIM, "a torque function that turns NaN at t = 0.5 s", InputError,
+     r"torque function returned array\(\[nan, +0\.\]\) at t = 0\.5\d* s; expected 2 finite values",
+     "torque function returned array([nan,  0.]) at t = 0.50096 s; expected 2 finite values (N*m)")
+def torque_nan(ctx):
+    ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0, 1),
+                torque=lambda t: [0.0, 0.0] if t < 0.5 else [np.nan, 0.0])
+
+
+@bad(SIM, "a non-finite constant torque", InputError,
+     r"torque must be finite \(got \[inf, 0\.0\]\)",
+     "torque must be finite (got [inf, 0.0])")
+def torque_inf(ctx):
+    ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0, 1), torque=[np.inf, 0.0])
+
+
+# -- generated files and compiled libraries --------------------------------------------------------
+
+@bad(FILES, "a robot that was never derived: `ps.load(\"six_bar\")`", LibraryError,
+     r"no generated code for robot 'six_bar' \(looked in .*\): run `make derive`",
+     "no generated code for robot 'six_bar' (looked in planar_sym/generated, generated): "
+     "run `make derive`")
+def never_derived(ctx):
+    ps.load("six_bar")
+
+
+@bad(FILES, "a missing generated folder: `ps.load(\"out/four_bar\")` before deriving",
+     LibraryError,
+     r"four_bar is not a generated robot folder \(no manifest\.json\): derive one with "
+     r"`planar-sym derive ROBOT\.toml --out DIR`, then load DIR/<name>",
+     "out/four_bar is not a generated robot folder (no manifest.json): derive one with "
+     "`planar-sym derive ROBOT.toml --out DIR`, then load DIR/<name>")
+def missing_folder(ctx):
+    ps.load(ctx.tmp / "out" / "four_bar")
+
+
+@bad(FILES, "a name not in the folder given: `ps.load(\"four_bar\", generated=\"out\")`",
+     LibraryError,
+     r"no generated robot 'four_bar' in .*out \(no .*manifest\.json\): run `planar-sym derive "
+     r"four_bar\.toml --out .*out`",
+     "no generated robot 'four_bar' in out (no out/four_bar/manifest.json): run `planar-sym "
+     "derive four_bar.toml --out out`")
+def not_in_generated(ctx):
+    (ctx.tmp / "out").mkdir()
+    ps.load("four_bar", generated=ctx.tmp / "out")
+
+
+@bad(FILES, "a plain name for a folder in the working directory: `ps.load(\"four_bar\")`",
+     LibraryError,
+     r"no robot 'four_bar' among the built-in ones or on PLANAR_SYM_GENERATED; to load the folder "
+     r"\./four_bar, pass a path: load\('\./four_bar'\)",
+     "no robot 'four_bar' among the built-in ones or on PLANAR_SYM_GENERATED; to load the folder "
+     "./four_bar, pass a path: load('./four_bar')")
+def folder_by_name(ctx):
+    (ctx.tmp / "four_bar").mkdir()
+    (ctx.tmp / "four_bar" / "manifest.json").write_text("{}")
+    ctx.monkeypatch.chdir(ctx.tmp)
+    ps.load("four_bar")
+
+
+@bad(FILES, "a generated file deleted (`serial_2dof.h`)", LibraryError,
+     r"serial_2dof\.h is missing: run `make derive`",
+     "generated/serial_2dof/serial_2dof.h is missing: run `make derive`",
+     TL + "test_missing_generated_file")
+def missing_file(ctx):
+    folder = ctx.generated_copy()
+    (folder / "serial_2dof.h").unlink()
+    Library("serial_2dof", folder=folder)
+
+
+@bad(FILES, "generated C edited by hand (one byte): the manifest's sha256 no longer matches",
+     LibraryError,
+     r"serial_2dof\.c does not match .*manifest\.json \(edited by hand or half-written\): run "
+     r"`make derive`",
+     "generated/serial_2dof/serial_2dof.c does not match generated/serial_2dof/manifest.json "
+     "(edited by hand or half-written): run `make derive`",
+     TL + "test_one_byte_changed_in_the_c_source")
+def edited_c(ctx):
+    folder = ctx.generated_copy()
+    src = folder / "serial_2dof.c"
+    src.write_text(src.read_text().replace("casadi_real", "casadi_reel", 1))
+    Library("serial_2dof", folder=folder)
+
+
+@bad(FILES, "a truncated (unreadable) `manifest.json`", LibraryError,
+     r"manifest\.json is unreadable \(.*\): run `make derive`",
+     "generated/serial_2dof/manifest.json is unreadable (Unterminated string starting at: line 2 "
+     "column 12 (char 13)): run `make derive`")
+def broken_manifest(ctx):
+    folder = ctx.generated_copy()
+    (folder / "manifest.json").write_text('{\n  "robot": "serial')
+    Library("serial_2dof", folder=folder)
+
+
+@bad(FILES, "a generated folder of another robot loaded under this name", LibraryError,
+     r"manifest\.json is for robot 'serial_2dof', not 'serial_3dof': run `make derive`",
+     "generated/serial_2dof/manifest.json is for robot 'serial_2dof', not 'serial_3dof': run "
+     "`make derive`", TL + "test_manifest_of_another_robot")
+def another_robot_folder(ctx):
+    Library("serial_3dof", folder=ctx.generated_copy())
+
+
+@bad(FILES, "a compiled library built for another input hash (generated sources re-derived, "
+     "library not rebuilt)", LibraryError,
+     r"compiled library .*serial_2dof-0123456789abcdef-\S+\.so was built from input hash "
+     r"\S+\.\.\., but .*manifest\.json says 0123456789abcdef\.\.\.: delete it and run "
+     r"`make build` \(or `make derive` if the generated sources are stale\)",
+     "compiled library cache/serial_2dof-0123456789abcdef-<key>.so was built from input hash "
+     "<input_hash>..., but generated/serial_2dof/manifest.json says 0123456789abcdef...: "
+     "delete it and run `make build` (or `make derive` if the generated sources are stale)",
+     TL + "test_library_built_from_another_input_hash")
+def another_hash(ctx):
+    built = build(GENERATED / "serial_2dof", read_manifest(GENERATED / "serial_2dof"))
+    folder = ctx.generated_copy()
+    manifest = json.loads((folder / "manifest.json").read_text())
+    manifest["input_hash"] = "0123456789abcdef" * 4
+    (folder / "manifest.json").write_text(json.dumps(manifest, indent=2))
+    ctx.private_cache()
+    target = library_path(folder, read_manifest(folder))
+    target.parent.mkdir(parents=True)
+    shutil.copyfile(built, target)  # the old library where the new hash expects one
+    Library("serial_2dof", folder=folder)
+
+
+@bad(FILES, "a library of another robot (serial_3dof's) where this robot's should be: rebuilt, "
+     "and the torques are right afterwards", Warned,
+     r"compiled library .*serial_2dof-\S+\.so does not match the hash recorded when it was "
+     r"built \(truncated or replaced\): rebuilding it",
+     "compiled library cache/serial_2dof-<input_hash>-<key>.so does not match the hash recorded "
+     "when it was built (truncated or replaced): rebuilding it")
+def another_robot_library(ctx):
+    other = build(GENERATED / "serial_3dof", read_manifest(GENERATED / "serial_3dof"))
+    folder = ctx.generated_copy()
+    ctx.private_cache()
+    target = library_path(folder, read_manifest(folder))
+    target.parent.mkdir(parents=True)
+    shutil.copyfile(other, target)
+    _rebuilt_and_right(folder)
+
+
+@bad(FILES, "a corrupt cached library (garbage bytes in the cache's serial_2dof `.so`): rebuilt, "
+     "and the torques are right afterwards", Warned,
+     r"compiled library .*serial_2dof-\S+\.so does not match the hash recorded when it was "
+     r"built \(truncated or replaced\): rebuilding it",
+     "compiled library cache/serial_2dof-<input_hash>-<key>.so does not match the hash recorded "
+     "when it was built (truncated or replaced): rebuilding it")
+def corrupt_library(ctx):
+    folder = GENERATED / "serial_2dof"
+    manifest = read_manifest(folder)
+    simd = build_simd(folder, manifest)  # in the user's cache
+    ctx.private_cache()
+    target = library_path(folder, manifest)
+    target.parent.mkdir(parents=True)
+    target.write_bytes(b"\x00garbage, not a shared library\n" * 64)  # never loaded: new path
+    if simd is not None:  # only the exact library needs rebuilding: copy simd and its stamp
+        shutil.copyfile(simd, library_path(folder, manifest, "simd"))
+        shutil.copyfile(f"{simd}.sha256", f"{library_path(folder, manifest, 'simd')}.sha256")
+    _rebuilt_and_right(folder)
+
+
+def _rebuilt_and_right(folder: Path) -> None:
+    """Load (with the warning recorded), check the library is serial_2dof's and the torques are
+    the textbook's; then raise the warning as ``Warned`` for the catalogue."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = Robot("serial_2dof", Library("serial_2dof", folder=folder), exact=True)
+    target = library_path(folder, robot.library.manifest)
+    assert target.read_bytes()[:4] == b"\x7fELF", "not rebuilt"
+    rng = np.random.default_rng(6)
+    q, qd, qdd = (rng.uniform(-2, 2, (50, 2)) for _ in range(3))
+    tau = robot.inverse_dynamics(q, qd, qdd)
+    np.testing.assert_allclose(tau, _reference_torques(q, qd, qdd), rtol=1e-12, atol=1e-14)
+    np.testing.assert_array_equal(tau, Robot("serial_2dof", _arm().library, exact=True)
+                                  .inverse_dynamics(q, qd, qdd))
+    rebuilt = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert len(rebuilt) == 1, [str(w.message) for w in caught]
+    raise Warned(str(rebuilt[0].message))
+
+
+def _reference_torques(q, qd, qdd) -> np.ndarray:
+    """The textbook closed form of the 2-DOF arm (seed Table 1), independent of any library."""
+    m1, i1, l1, a1 = 0.071, 89.395e-6, 0.0373, 0.1
+    mm, m2, i2, l2 = 0.292, 0.075, 109.864e-6, 0.04168
+    g = 9.81
+    alpha = i1 + m1 * l1**2 + (mm + m2) * a1**2 + i2 + m2 * l2**2
+    beta, delta = m2 * a1 * l2, i2 + m2 * l2**2
+    c2, s2 = np.cos(q[:, 1]), np.sin(q[:, 1])
+    m11, m12 = alpha + 2 * beta * c2, delta + beta * c2
+    h1 = -beta * s2 * (2 * qd[:, 0] * qd[:, 1] + qd[:, 1] ** 2)
+    h2 = beta * s2 * qd[:, 0] ** 2
+    g1 = ((m1 * l1 + (mm + m2) * a1) * g * np.cos(q[:, 0])
+          + m2 * l2 * g * np.cos(q[:, 0] + q[:, 1]))
+    g2 = m2 * l2 * g * np.cos(q[:, 0] + q[:, 1])
+    return np.column_stack([m11 * qdd[:, 0] + m12 * qdd[:, 1] + h1 + g1,
+                            m12 * qdd[:, 0] + delta * qdd[:, 1] + h2 + g2])
+
+
+@bad(FILES, "no C compiler (none on PATH, CC unset), empty cache", LibraryError,
+     r"no C compiler found \(set CC, or install gcc\): the generated code is compiled on first "
+     r"use",
+     "no C compiler found (set CC, or install gcc): the generated code is compiled on first use")
+def no_compiler(ctx):
+    ctx.private_cache()
+    ctx.monkeypatch.delenv("CC", raising=False)
+    ctx.monkeypatch.setenv("PATH", str(ctx.tmp / "empty"))
+    Library("serial_2dof", folder=GENERATED / "serial_2dof")
+
+
+@bad(FILES, "a compiler that fails (`CC=false`), empty cache", LibraryError,
+     r"compiling .*serial_2dof\.c failed \(false -O3 -fPIC -std=c99 -c -o .*\):",
+     "compiling generated/serial_2dof/serial_2dof.c failed (false -O3 -fPIC -std=c99 -c -o "
+     "cache/tmpXXXXXXXX/serial_2dof.o generated/serial_2dof/serial_2dof.c): (then the "
+     "compiler's own messages)")
+def failing_compiler(ctx):
+    ctx.private_cache()
+    ctx.monkeypatch.setenv("CC", "false")
+    Library("serial_2dof", folder=GENERATED / "serial_2dof")
+
+
+# -- command line ---------------------------------------------------------------------------------
+
+def _cli(ctx: Ctx, *args: str) -> None:
+    from planar_sym.cli import main
+
+    ctx.capsys.readouterr()
+    code = main(list(args))
+    err = ctx.capsys.readouterr().err
+    if code != 0:
+        assert code == 2 and "Traceback" not in err, (code, err)
+        raise CommandFailed(err.strip())
+
+
+@bad(CLI, "`planar-sym run no_such_scenario --out res`", CommandFailed,
+     r"^error: unknown scenario 'no_such_scenario'",
+     "error: unknown scenario 'no_such_scenario'; known: serial_2dof_free_swing, ...",
+     "tests/test_cli.py::test_run_unknown_scenario_writes_nothing")
+def cli_unknown_scenario(ctx):
+    _cli(ctx, "run", "no_such_scenario", "--out", str(ctx.tmp / "res"))
+    assert not (ctx.tmp / "res").exists()
+
+
+@bad(CLI, "`planar-sym derive bad.toml --out DIR` with a negative mass: nothing written",
+     CommandFailed,
+     r"^error: invalid robot description:\n  .*bad\.toml: bodies\[0\] \(link1\)\.mass: must be "
+     r"> 0 \(got -1\.0\)",
+     "error: invalid robot description:\n  bad.toml: bodies[0] (link1).mass: must be > 0 "
+     "(got -1.0)", TD + "test_derive_refuses_and_writes_nothing")
+def cli_derive_bad(ctx):
+    path = ctx.edited(SERIAL, ("mass = 0.071", "mass = -1.0"))
+    out = ctx.tmp / "out"
+    try:
+        _cli(ctx, "derive", str(path), "--out", str(out), "--quiet")
+    finally:
+        assert not out.exists() or not any(out.iterdir())
+
+
+@bad(CLI, "`planar-sym equations no_such_robot`", CommandFailed,
+     r"^error: .*no_such_robot",
+     "error: no generated code for robot 'no_such_robot' (looked in planar_sym/generated, "
+     "generated): run `make derive`",
+     "tests/test_cli.py::test_equations_unknown_robot")
+def cli_equations_unknown(ctx):
+    _cli(ctx, "equations", "no_such_robot")
+
+
+# -- the test ---------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module", autouse=True)
+def _process_wide_helpers():
+    """Build the process-wide C helpers (_fastcall, _integrate) in the normal cache first, so that
+    no entry's private cache or broken compiler decides them for later tests."""
+    from planar_sym.library import fastcall, integrator
+
+    fastcall()
+    integrator()
+
+
+def _normalise(text: str, ctx: Ctx) -> str:
+    return text.replace(str(ctx.tmp) + "/", "").replace(str(ROOT) + "/", "")
+
+
+@pytest.mark.parametrize("entry", CATALOGUE, ids=[e.id for e in CATALOGUE])
+def test_catalogue(entry: Bad, tmp_path, monkeypatch, capsys):
+    ctx = Ctx(tmp_path, monkeypatch, capsys)
+    with pytest.raises(entry.exc) as info:
+        entry.run(ctx)
+    msg = str(info.value)
+    assert re.search(entry.pattern, msg, re.MULTILINE), (
+        f"{entry.id}: message does not match the catalogue\n  got:     {_normalise(msg, ctx)!r}"
+        f"\n  pattern: {entry.pattern!r}")
+    if isinstance(info.value, DescriptionError):
+        assert all(p.startswith(f"{tmp_path}/") or not p.startswith("/")
+                   for p in info.value.problems), info.value.problems
+
+
+@pytest.mark.parametrize("entry", CATALOGUE, ids=[e.id for e in CATALOGUE])
+def test_example_matches_its_pattern(entry: Bad):
+    """The example in the docs is an instance of what the test checks."""
+    assert re.search(entry.pattern, entry.example, re.MULTILINE), (entry.id, entry.example)
+
+
+def test_catalogue_is_complete_and_unique():
+    ids = [e.id for e in CATALOGUE]
+    assert len(ids) == len(set(ids))
+    assert {e.area for e in CATALOGUE} == set(AREAS)
+    assert len(CATALOGUE) >= 60
+
+
+# -- docs/errors.md -------------------------------------------------------------------------------
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def _code(text: str) -> str:
+    """The message in code spans, one per line of it."""
+    spans = []
+    for line in text.splitlines():
+        line = _cell(line.strip())
+        fence = "``" if "`" in line else "`"
+        pad = " " if fence == "``" else ""
+        spans.append(f"{fence}{pad}{line}{pad}{fence}")
+    return "<br>".join(spans)
+
+
+def render_markdown() -> str:
+    lines = [
+        "# Errors: the catalogue of bad inputs",
+        "",
+        ("<!-- generated by `python tests/test_error_catalogue.py` from the table in that file; "
+         "do not edit: tests/test_error_catalogue.py checks that this file is exactly that -->"),
+        "",
+        (f"{len(CATALOGUE)} bad inputs, each with the exception and the message you see. Every "
+         "error is a subclass of `planar_sym.PlanarSymError` (the command line prints it after "
+         "`error: ` with exit code 2). Paths are shortened to the file name; a description "
+         "error lists every problem of the file, each starting with the file's path."),
+        "",
+        ("Each row is checked by `tests/test_error_catalogue.py` (the message must match a "
+         "regular expression of which the example is an instance); \"tested in\" names the "
+         "test that checks the case in more depth."),
+        "",
+    ]
+    for area in AREAS:
+        rows = [e for e in CATALOGUE if e.area == area]
+        lines += [f"## {area} ({len(rows)})", "",
+                  "| # | what you did | what you see | message | tested in |",
+                  "|---|---|---|---|---|"]
+        for e in rows:
+            k = CATALOGUE.index(e) + 1
+            see = f"`{e.see}`" if e.see else ""
+            lines.append(f"| {k} | {_cell(e.did)} | {e.shown_class} | {_code(e.example)} | "
+                         f"{see} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def test_docs_are_generated_from_the_catalogue():
+    assert DOCS.is_file(), "docs/errors.md is missing: run python tests/test_error_catalogue.py"
+    text = DOCS.read_text()
+    for e in CATALOGUE:
+        assert _code(e.example) in text, f"docs/errors.md lacks the example of {e.id}"
+    assert text == render_markdown(), ("docs/errors.md is out of date: run "
+                                       "python tests/test_error_catalogue.py")
+
+
+# -- known bugs (strict xfail: each shows the behaviour the catalogue should have; remove the
+#    marker once fixed) ---------------------------------------------------------------------------
+
+TRUNCATED = """
+import shutil, sys, warnings
+from pathlib import Path
+import numpy as np
+from planar_sym.library import Library, build, library_path, read_manifest
+from planar_sym.dynamics import Robot
+
+folder = Path(sys.argv[1])
+built = Path(sys.argv[2])
+manifest = read_manifest(folder)
+target = library_path(folder, manifest)  # in the private cache ($PLANAR_SYM_CACHE)
+target.parent.mkdir(parents=True, exist_ok=True)
+data = built.read_bytes()
+target.write_bytes(data[: len(data) // 2])  # a half-copied library
+warnings.simplefilter("always")
+robot = Robot("serial_2dof", Library("serial_2dof", folder=folder), exact=True)
+print(robot.inverse_dynamics([0.1, 0.2], [0.3, 0.4], [0.5, 0.6]).tolist())
+"""
+
+
+def test_known_bug_truncated_library_crashes_the_process(tmp_path):
+    import os
+    import subprocess
+
+    folder = GENERATED / "serial_2dof"
+    built = build(folder, read_manifest(folder))
+    script = tmp_path / "truncated.py"
+    script.write_text(TRUNCATED)
+    env = dict(os.environ, PLANAR_SYM_CACHE=str(tmp_path / "cache"), PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, str(script), str(folder), str(built)], env=env,
+                         capture_output=True, text=True, timeout=120, check=False)
+    assert res.returncode == 0, f"exit code {res.returncode} (-7: SIGBUS)\n{res.stderr[-500:]}"
+    assert "rebuilding it" in res.stderr
+
+
+def test_known_bug_corrupt_simd_library_is_not_rebuilt(tmp_path, monkeypatch):
+    folder = GENERATED / "serial_2dof"
+    manifest = read_manifest(folder)
+    exact = build(folder, manifest)
+    monkeypatch.setenv("PLANAR_SYM_CACHE", str(tmp_path / "cache"))
+    (tmp_path / "cache").mkdir()
+    shutil.copyfile(exact, library_path(folder, manifest))
+    library_path(folder, manifest, "simd").write_bytes(b"garbage" * 100)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        library = Library("serial_2dof", folder=folder)
+    assert library.simd is not None
+    assert any("rebuilding it" in str(w.message) for w in caught)
+
+
+def test_known_bug_corrupt_integrator_library(tmp_path, monkeypatch):
+    import hashlib
+
+    from planar_sym import library as lib
+
+    arm = _arm()  # loaded from the normal cache first
+    src = Path(lib.__file__).parent / "_integrate.c"
+    key = hashlib.sha256(src.read_bytes() + " ".join(lib.CFLAGS).encode()).hexdigest()[:12]
+    (tmp_path / f"_integrate-{key}.so").write_bytes(b"garbage" * 100)
+    monkeypatch.setattr(lib, "_INTEGRATOR", None)
+    monkeypatch.setattr(lib, "cache_dir", lambda: tmp_path)
+    try:
+        ps.simulate(arm, [0.0, 0.0], [0.0, 0.0], (0.0, 0.1))
+    except LibraryError:
+        return
+
+
+def test_known_bug_cc_names_a_missing_compiler(tmp_path, monkeypatch):
+    monkeypatch.setenv("PLANAR_SYM_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("CC", str(tmp_path / "no_such_cc"))
+    with pytest.raises(LibraryError, match="no_such_cc"):
+        Library("serial_2dof", folder=GENERATED / "serial_2dof")
+
+
+def test_known_bug_constant_torque_of_wrong_length():
+    try:
+        ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0.0, 1.0), torque=[1.0, 2.0, 3.0])
+    except InputError:
+        return
+
+
+if __name__ == "__main__":
+    DOCS.parent.mkdir(exist_ok=True)
+    DOCS.write_text(render_markdown())
+    print(f"wrote {DOCS} ({len(CATALOGUE)} entries)")
