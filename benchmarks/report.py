@@ -48,10 +48,10 @@ class Section:
 
 
 def cell(x) -> str:
+    if isinstance(x, Ratio):  # before Stats: a Ratio is a Stats
+        return fmt_ratio(x)
     if isinstance(x, Stats):
         return fmt_stats(x)
-    if isinstance(x, Ratio):
-        return fmt_ratio(x)
     if x is None:
         return "-"
     if isinstance(x, float):

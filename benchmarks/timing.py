@@ -40,22 +40,8 @@ class Stats:
 
 
 @dataclass(frozen=True)
-class Ratio:
-    """Per-repeat ratios a_i / b_i of two interleaved measurements."""
-
-    values: tuple[float, ...]
-
-    @property
-    def median(self) -> float:
-        return statistics.median(self.values)
-
-    @property
-    def min(self) -> float:
-        return min(self.values)
-
-    @property
-    def max(self) -> float:
-        return max(self.values)
+class Ratio(Stats):
+    """Per-repeat ratios a_i / b_i of two interleaved measurements (summarised like Stats)."""
 
 
 def ratio(a: Stats, b: Stats) -> Ratio:
