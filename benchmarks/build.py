@@ -6,7 +6,7 @@
   ``derived NAME in X s``: SymPy derivation and C generation, imports excluded); in total: the
   subprocess's wall time. Baseline, interleaved: a subprocess that only imports what derive
   imports (``sympy``, ``casadi``, ``derive``), the fixed cost of any derivation.
-* **compile**: ``planar_sym.library.build(folder, manifest, force=True)`` in-process, with
+* **compile**: ``planar_sym.model.library.build(folder, manifest, force=True)`` in-process, with
   ``PLANAR_SYM_CACHE`` pointing at a fresh temporary folder every time, i.e. the committed C
   compiled with the runtime's own compiler and flags; likewise ``build_simd`` (the vectorised
   ``<robot>_simd.c``) where the library and the robot have one, since a first use builds both.
@@ -50,7 +50,7 @@ def _imports_only():
 def _compile(robot: str, flavour: str):
     """A timed build of one flavour ("exact": ``build``; "simd": ``build_simd`` where the
     library and the robot have one, else None) into a fresh cache, and its source size."""
-    from planar_sym import library
+    from planar_sym.model import library
 
     folder = library.find_generated(robot)
     manifest = library.read_manifest(folder)
@@ -74,7 +74,7 @@ def _compile(robot: str, flavour: str):
 
 
 def _trivial_compile(workdir: Path):
-    from planar_sym.library import CFLAGS, _compiler
+    from planar_sym.model.library import CFLAGS, _compiler
 
     src = workdir / "trivial.c"
     src.write_text("double trivial(double x) { return 2.0 * x; }\n")
@@ -86,7 +86,7 @@ def _trivial_compile(workdir: Path):
 
 
 def run(cfg: Config) -> Section:
-    from planar_sym.library import CFLAGS
+    from planar_sym.model.library import CFLAGS
 
     sec = Section("build", "3. Derive and compile times", __doc__.split("\n\n", 1)[1])
     per_robot: dict[str, list[float]] = {}

@@ -102,7 +102,7 @@ def _problem_runs(cfg: Config, robot, q0, sym, t_eval, with_mujoco: bool,
                 return sim.q, sim.qd, f"{sim.method}, {sim.n_rhs} RHS calls{drift}"
             runs.append(Run(label, f"rtol {rtol:g}", ps))
     if with_mujoco:
-        from planar_sym import description
+        from planar_sym.model import description
 
         mmodel, mdata = mujoco_model.build(description.load(robot.name))
         checks.append(_mujoco_forward_check(robot, mmodel, mdata))

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from planar_sym.library import SingleCall
+from planar_sym.model.library import SingleCall
 
 from . import CLOSED, SERIAL, Config
 from .report import Check, Section, Table
@@ -49,7 +49,7 @@ def serial_states(n: int, size: int, seed: int = 1):
 
 
 def closed_states(robot, size: int):
-    from planar_sym.scenarios import SCENARIOS, joint_motion
+    from planar_sym.study.scenarios import SCENARIOS, joint_motion
 
     sc = SCENARIOS[f"{robot.name}_move_x"]
     base = min(size, 100_000)
@@ -67,7 +67,7 @@ def exact_twin(robot):
     fast math), or None where this planar_sym version has a single path."""
     import inspect
 
-    from planar_sym.dynamics import Robot
+    from planar_sym.model.robot import Robot
 
     if "exact" not in inspect.signature(Robot).parameters:
         return None
@@ -80,7 +80,8 @@ class Serial:
     def __init__(self, name: str, section: Section, symbolic):
         import pinocchio as pin
 
-        from planar_sym import description, load
+        from planar_sym import load
+        from planar_sym.model import description
 
         from .baselines import cfloor, mujoco_model, pinocchio_model
 

@@ -17,8 +17,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from planar_sym.description import builtin_robots, load
 from planar_sym.errors import DescriptionError
+from planar_sym.model.description import builtin_robots, load
 from planar_sym.progress import Progress
 
 from . import codegen, model

@@ -15,7 +15,7 @@ from pathlib import Path
 import casadi as ca
 import sympy as sp
 
-from planar_sym.description import Description
+from planar_sym.model.description import Description
 
 from . import simd
 from .model import Model
@@ -24,7 +24,7 @@ from .to_casadi import Translator
 GENERATOR = "planar-sym derive (derive/codegen.py)"
 ROOT = Path(__file__).resolve().parent.parent
 #: sources whose change can change the generated files: they are part of the input hash
-HASHED_SOURCES = ("planar_sym/description.py", "planar_sym/units.py")
+HASHED_SOURCES = ("planar_sym/model/description.py", "planar_sym/model/units.py")
 
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix

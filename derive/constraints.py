@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from planar_sym.description import Description
+from planar_sym.model.description import Description
 
 from .kinematics import Frame, body_vec
 from .symbols import Symbols

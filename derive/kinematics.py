@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from planar_sym.description import GROUND, Description
+from planar_sym.model.description import GROUND, Description
 
 from .symbols import Symbols
 

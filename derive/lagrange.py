@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from planar_sym.description import GROUND, Description
+from planar_sym.model.description import GROUND, Description
 
 from .kinematics import Frame, angle_rate, body_vec
 from .symbols import Symbols

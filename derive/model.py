@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from planar_sym.description import GROUND, Description
+from planar_sym.model.description import GROUND, Description
 
 from . import constraints, kinematics, lagrange
 from .symbols import Symbols, make_symbols

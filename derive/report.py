@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from planar_sym.units import SI, factor
+from planar_sym.model.units import SI, factor
 
 from . import properties
 from .lumping import Lumped, lump

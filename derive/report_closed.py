@@ -1,6 +1,6 @@
 """Closed-chain part of the report: Phi(q), Phi_q, gamma and the multiplier equation.
 
-The sign convention is the one of planar_sym/closed_chain.py, stated per cut joint: with
+The sign convention is the one of planar_sym/dynamics/inverse.py, stated per cut joint: with
 Phi = r(parent point) - r(child point), lambda is the force the cut joint's child body exerts on
 its parent body (N, world x and y); the child feels -lambda.
 """

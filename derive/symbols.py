@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from planar_sym.description import Description
+from planar_sym.model.description import Description
 
 
 @dataclass(frozen=True)

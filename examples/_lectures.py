@@ -10,8 +10,8 @@ import argparse
 import os
 from pathlib import Path
 
-from planar_sym.library import find_generated
-from planar_sym.results import Result
+from planar_sym.model.library import find_generated
+from planar_sym.study.result import Result
 
 
 def options(doc: str) -> argparse.Namespace:
@@ -59,7 +59,7 @@ def report(result: Result, plot_dir: Path | None) -> None:
     if result.note:
         print(f"{result.name}: {result.note}")
     if plot_dir is not None:
-        from planar_sym.plots import save_figure
+        from planar_sym.outputs.plots import save_figure
 
         plot_dir.mkdir(parents=True, exist_ok=True)
         save_figure(result, plot_dir / f"{result.name}.png")

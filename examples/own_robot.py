@@ -7,7 +7,7 @@
    here called in-process; DIR defaults to a temporary folder, removed at the end;
 3. load it: ``planar_sym.load(DIR / "four_bar")``;
 4. move the crank one turn at 1 rev/s and solve the passive joints from the loop closure
-   (``closed_chain.from_actuated``);
+   (``closure.from_actuated``);
 5. torques: the crank torque and the reaction force at the cut joint
    (``closed_chain_inverse_dynamics``);
 6. the equations it was derived with: ``DIR/four_bar/equations.txt``.
@@ -26,8 +26,8 @@ from _lectures import equation_lines
 
 import planar_sym as ps
 from planar_sym.cli import main as planar_sym_cli
-from planar_sym.closed_chain import from_actuated
-from planar_sym.description import load as load_description
+from planar_sym.model.description import load as load_description
+from planar_sym.motion.closure import from_actuated
 
 HERE = Path(__file__).resolve().parent
 

@@ -10,8 +10,6 @@ needed only to derive new equations (``derive/``).
 
 from __future__ import annotations
 
-from .dynamics import Robot, load
-from .equations import Equations, equations
 from .errors import (
     DescriptionError,
     InputError,
@@ -20,7 +18,9 @@ from .errors import (
     SimulationError,
     WorkspaceError,
 )
-from .trajectory import Trajectory, cubic
+from .model.robot import Robot, load
+from .motion.profiles import Trajectory, cubic
+from .outputs.equations import Equations, equations
 
 __all__ = [
     "SCENARIOS",
@@ -43,9 +43,10 @@ __all__ = [
 ]
 __version__ = "0.1.0"
 
-_LAZY = {"simulate": ("simulation", "simulate"), "inverse_kinematics": ("kinematics",
-         "inverse_kinematics"), "run_scenario": ("scenarios", "run"),
-         "SCENARIOS": ("scenarios", "SCENARIOS"), "validate": ("validate", "run_all")}
+_LAZY = {"simulate": ("dynamics.forward", "simulate"),
+         "inverse_kinematics": ("motion.ik", "inverse_kinematics"),
+         "run_scenario": ("study.scenarios", "run"), "SCENARIOS": ("study.scenarios", "SCENARIOS"),
+         "validate": ("analysis.validate", "run_all")}
 
 
 def __getattr__(name: str):

@@ -78,8 +78,8 @@ def derived(tmp_path_factory):
     """``derived(toml_path) -> (folder, Robot)``: derive a test robot into a tmp folder and load
     it, compiled into a session tmp cache (test robots stay out of the user's cache)."""
     from derive.__main__ import main as derive_main  # needs SymPy: only for tests that use it
-    from planar_sym.dynamics import Robot
-    from planar_sym.library import Library
+    from planar_sym.model.library import Library
+    from planar_sym.model.robot import Robot
 
     out = tmp_path_factory.mktemp("derived")
     cache = tmp_path_factory.mktemp("cache")

@@ -51,7 +51,8 @@ def test_baselines_agree_with_planar_sym(name):
     pytest.importorskip("pinocchio")
     from benchmarks.baselines import cfloor, mujoco_model, pinocchio_model
     from benchmarks.inverse import GATE, serial_states
-    from planar_sym import description, load
+    from planar_sym import load
+    from planar_sym.model import description
 
     robot, desc = load(name), description.load(name)
     q, qd, qdd = serial_states(robot.n, 200, seed=3)
@@ -71,7 +72,8 @@ def test_mujoco_rk4_follows_planar_sym_simulate():
     """MuJoCo's RK4 on the generated MJCF integrates the same S1 motion (to its step error)."""
     pytest.importorskip("mujoco")
     from benchmarks.baselines import mujoco_model
-    from planar_sym import description, load, simulate
+    from planar_sym import load, simulate
+    from planar_sym.model import description
 
     robot = load("serial_2dof")
     q0 = np.radians([-60.0, 0.0])

@@ -10,10 +10,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import planar_sym.plots
+import planar_sym.outputs.plots
 from planar_sym.cli import main
 from planar_sym.errors import PlanarSymError
-from planar_sym.scenarios import SCENARIOS, run
+from planar_sym.study.scenarios import SCENARIOS, run
 
 ROOT = Path(__file__).resolve().parent.parent
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -83,7 +83,7 @@ def _failing_save(result, path):
 def test_run_failing_midway_leaves_no_files(tmp_path, capsys, monkeypatch):
     """The figure fails after the CSV text is written to its temporary file: neither the CSV
     nor the PNG nor any temporary file may remain."""
-    monkeypatch.setattr(planar_sym.plots, "save_figure", _failing_save)
+    monkeypatch.setattr(planar_sym.outputs.plots, "save_figure", _failing_save)
     out = tmp_path / "res"
     code = main(["run", "five_bar_type1_move_x", "--out", str(out), "--samples", "11"])
     assert code != 0
@@ -95,7 +95,7 @@ def test_run_failing_midway_keeps_earlier_complete_files(tmp_path, capsys, monke
     """Second scenario fails (a non-package error, e.g. the disk): the first one's files stay
     complete, the second leaves nothing, no temporary files anywhere."""
     calls = []
-    real = planar_sym.plots.save_figure
+    real = planar_sym.outputs.plots.save_figure
 
     def second_fails(result, path):
         calls.append(result.name)
@@ -104,7 +104,7 @@ def test_run_failing_midway_keeps_earlier_complete_files(tmp_path, capsys, monke
             raise OSError(28, "No space left on device")
         real(result, path)
 
-    monkeypatch.setattr(planar_sym.plots, "save_figure", second_fails)
+    monkeypatch.setattr(planar_sym.outputs.plots, "save_figure", second_fails)
     out = tmp_path / "res"
     code = main(["--quiet", "run", "serial_2dof_joint_move", "serial_2dof_cartesian_move",
                  "--out", str(out), "--samples", "5"])
@@ -121,7 +121,7 @@ def test_run_overwrites_previous_results_atomically(tmp_path, monkeypatch):
     name = "serial_2dof_joint_move"
     assert main(["--quiet", "run", name, "--out", str(out), "--samples", "5"]) == 0
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    monkeypatch.setattr(planar_sym.plots, "save_figure", _failing_save)
+    monkeypatch.setattr(planar_sym.outputs.plots, "save_figure", _failing_save)
     assert main(["--quiet", "run", name, "--out", str(out), "--samples", "7"]) != 0
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # old results untouched
 

@@ -1,6 +1,6 @@
 """Closed chains (five_bar_type1, five_bar_type2, parallel_3rrr) against independent references.
 
-Sign convention under test (planar_sym/closed_chain.py):
+Sign convention under test (planar_sym/dynamics/inverse.py):
 
 .. code:: text
 
@@ -34,13 +34,14 @@ import pytest
 from pinocchio_model import pinocchio_model
 from pinocchio_model import xyz as _xyz
 
-from planar_sym import closed_chain, description
-from planar_sym.description import GROUND
-from planar_sym.dynamics import load
-from planar_sym.kinematics import inverse_kinematics
-from planar_sym.scenarios import SCENARIOS, task_to_si
-from planar_sym.simulation import simulate
-from planar_sym.trajectory import cubic
+from planar_sym.dynamics.forward import simulate
+from planar_sym.model import description
+from planar_sym.model.description import GROUND
+from planar_sym.model.robot import load
+from planar_sym.motion import closure
+from planar_sym.motion.ik import inverse_kinematics
+from planar_sym.motion.profiles import cubic
+from planar_sym.study.scenarios import SCENARIOS, task_to_si
 
 CLOSED_ROBOTS = ("five_bar_type1", "five_bar_type2", "parallel_3rrr")
 CLOSED_SCENARIOS = tuple(n for n, s in SCENARIOS.items() if s.robot in CLOSED_ROBOTS)
@@ -313,7 +314,7 @@ def test_loop_residual_and_ik_round_trip(name):
 def test_from_actuated_matches_ik(name):
     robot, _, jt = scenario_motion(name)
     act = list(robot.actuated)
-    via = closed_chain.from_actuated(robot, jt.t_s, jt.q[:, act], jt.qd[:, act],
+    via = closure.from_actuated(robot, jt.t_s, jt.q[:, act], jt.qd[:, act],
                                      jt.qdd[:, act], q_guess=robot.q_drawn)
     errs = {k: rel(getattr(via, k), getattr(jt, k), whole=True) for k in ("q", "qd", "qdd")}
     print(f"{name}: actuated route vs IK: " + ", ".join(f"{k} {v:.1e}" for k, v in errs.items()))

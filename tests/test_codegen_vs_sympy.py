@@ -18,8 +18,8 @@ import sympy as sp
 from conftest import ALL_ROBOTS, TEST_ROBOTS, random_states, record, rel_err
 
 from derive.model import build
-from planar_sym import description
-from planar_sym.dynamics import load
+from planar_sym.model import description
+from planar_sym.model.robot import load
 
 TOL = 1e-12
 N_SAMPLES = 20

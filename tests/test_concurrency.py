@@ -28,10 +28,9 @@ import time
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 import planar_sym as ps
-from planar_sym.kinematics import inverse_kinematics
+from planar_sym.motion.ik import inverse_kinematics
 
 ROOT = Path(__file__).resolve().parent.parent
 PROCESSES = 6
@@ -41,7 +40,7 @@ CHILD = textwrap.dedent("""
     from pathlib import Path
     import numpy as np
     import planar_sym as ps
-    from planar_sym.kinematics import inverse_kinematics
+    from planar_sym.motion.ik import inverse_kinematics
 
     go, out = Path(sys.argv[1]), sys.argv[2]
     while not go.exists():  # everyone imported: start together

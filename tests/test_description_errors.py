@@ -9,8 +9,8 @@ import pytest
 from conftest import ROBOTS_DIR
 
 from derive.__main__ import main as derive_main
-from planar_sym import description
 from planar_sym.errors import DescriptionError
+from planar_sym.model import description
 
 SERIAL = (ROBOTS_DIR / "serial_2dof.toml").read_text()
 FIVE_BAR = (ROBOTS_DIR / "five_bar_type1.toml").read_text()

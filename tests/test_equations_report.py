@@ -1,5 +1,5 @@
 """The equation report (generated/<robot>/equations.{txt,tex,md}, ``planar-sym equations``,
-``planar_sym.equations``): the printed 2-DOF equations are the textbook closed form term by term,
+``planar_sym.outputs.equations``): the printed 2-DOF equations are the textbook closed form term by term,
 and every printed equation evaluates to what the compiled library computes.
 
 The text form is read back with ``sympify`` (display names as symbols, ``c12`` as
@@ -19,9 +19,9 @@ import sympy as sp
 from conftest import ALL_ROBOTS, CLOSED, GENERATED, ROOT, rel_err
 
 import planar_sym as ps
-from planar_sym import description
 from planar_sym.cli import main
-from planar_sym.equations import equations
+from planar_sym.model import description
+from planar_sym.outputs.equations import equations
 
 GREEK = ("alpha", "beta", "delta", "epsilon", "zeta", "eta", "theta", "kappa", "mu", "nu", "xi",
          "rho", "sigma", "chi", "psi", "omega")
@@ -269,7 +269,7 @@ def test_latex_compiles(robot, tmp_path):
 
 
 def test_runtime_equations_do_not_import_sympy():
-    code = ("import sys; from planar_sym.equations import equations; "
+    code = ("import sys; from planar_sym.outputs.equations import equations; "
             "e = equations('five_bar_type1'); e._repr_latex_(); e.sections(); "
             "assert 'sympy' not in sys.modules, 'sympy imported'; print(len(e.text))")
     proc = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,

@@ -36,8 +36,7 @@ if str(ROOT) not in sys.path:  # run as a script (regenerating docs/errors.md)
     sys.path.insert(0, str(ROOT))
 
 import planar_sym as ps
-from planar_sym import closed_chain, description
-from planar_sym.dynamics import Robot
+from planar_sym.dynamics import forward_closed
 from planar_sym.errors import (
     DescriptionError,
     InputError,
@@ -45,9 +44,12 @@ from planar_sym.errors import (
     SimulationError,
     WorkspaceError,
 )
-from planar_sym.kinematics import inverse_kinematics
-from planar_sym.library import Library, build, build_simd, library_path, read_manifest
-from planar_sym.trajectory import coeff_3rd, cubic
+from planar_sym.model import description
+from planar_sym.model.library import Library, build, build_simd, library_path, read_manifest
+from planar_sym.model.robot import Robot
+from planar_sym.motion import closure
+from planar_sym.motion.ik import inverse_kinematics
+from planar_sym.motion.profiles import coeff_3rd, cubic
 
 SERIAL = (ROBOTS / "serial_2dof.toml").read_text()
 FIVE_BAR = (ROBOTS / "five_bar_type1.toml").read_text()
@@ -615,7 +617,7 @@ def singular_pose(ctx):
 def singular_closed(ctx):
     t = np.linspace(0.0, 1.0, 5)
     tr = cubic([0.0, np.pi / 2], [np.pi / 2, 0.0], 1.0, t)
-    closed_chain.from_actuated(ps.load("five_bar_type2"), t, tr.x, tr.xd, tr.xdd)
+    closure.from_actuated(ps.load("five_bar_type2"), t, tr.x, tr.xd, tr.xdd)
 
 
 @bad(TRAJ, "closed-chain torques at a singular pose (actuation matrix)", WorkspaceError,
@@ -713,7 +715,7 @@ def tiny_tolerance(ctx):
      "cannot hold")
 def drift_limit(ctx):
     five = ps.load("five_bar_type1")
-    closed_chain.simulate_closed(five, five.q_drawn, np.zeros(4), (0.0, 1.0), drift_limit_m=1e-20)
+    forward_closed.simulate_closed(five, five.q_drawn, np.zeros(4), (0.0, 1.0), drift_limit_m=1e-20)
 
 
 @bad(SIM, "non-positive tolerance: `rtol=0`", InputError,
@@ -1022,7 +1024,8 @@ def cli_equations_unknown(ctx):
 def _process_wide_helpers():
     """Build the process-wide C helpers (_fastcall, _integrate) in the normal cache first, so that
     no entry's private cache or broken compiler decides them for later tests."""
-    from planar_sym.library import fastcall, integrator
+    from planar_sym.dynamics.integrate import integrator
+    from planar_sym.model.library import fastcall
 
     fastcall()
     integrator()
@@ -1123,8 +1126,8 @@ TRUNCATED = """
 import shutil, sys, warnings
 from pathlib import Path
 import numpy as np
-from planar_sym.library import Library, build, library_path, read_manifest
-from planar_sym.dynamics import Robot
+from planar_sym.model.library import Library, build, library_path, read_manifest
+from planar_sym.model.robot import Robot
 
 folder = Path(sys.argv[1])
 built = Path(sys.argv[2])
@@ -1172,13 +1175,14 @@ def test_known_bug_corrupt_simd_library_is_not_rebuilt(tmp_path, monkeypatch):
 def test_known_bug_corrupt_integrator_library(tmp_path, monkeypatch):
     import hashlib
 
-    from planar_sym import library as lib
+    from planar_sym.dynamics import integrate
+    from planar_sym.model import library as lib
 
     arm = _arm()  # loaded from the normal cache first
-    src = Path(lib.__file__).parent / "_integrate.c"
+    src = Path(integrate.__file__).parent / "_integrate.c"
     key = hashlib.sha256(src.read_bytes() + " ".join(lib.CFLAGS).encode()).hexdigest()[:12]
     (tmp_path / f"_integrate-{key}.so").write_bytes(b"garbage" * 100)
-    monkeypatch.setattr(lib, "_INTEGRATOR", None)
+    monkeypatch.setattr(integrate, "_INTEGRATOR", None)
     monkeypatch.setattr(lib, "cache_dir", lambda: tmp_path)
     try:
         ps.simulate(arm, [0.0, 0.0], [0.0, 0.0], (0.0, 0.1))

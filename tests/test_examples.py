@@ -13,7 +13,7 @@ import pytest
 from conftest import ROOT
 
 import planar_sym as ps
-from planar_sym.closed_chain import from_actuated
+from planar_sym.motion.closure import from_actuated
 
 EXAMPLES = ROOT / "examples"
 LECTURES = sorted(p.name for p in EXAMPLES.glob("lecture_*.py"))

@@ -2,7 +2,7 @@
 
 Exact: CasADi's per-sample functions compiled with -O3 and no fast math. Fast: the same
 CasADi algorithm printed as straight-line loops (derive/simd.py), -O3 -march=native
--ffast-math, called through planar_sym/_fastcall.c. Both must agree to 1e-12 relative;
+-ffast-math, called through planar_sym/model/_fastcall.c. Both must agree to 1e-12 relative;
 measured ~1e-15.
 """
 
@@ -13,8 +13,8 @@ import pytest
 from conftest import ALL_ROBOTS
 
 import planar_sym
-from planar_sym.dynamics import Robot, load
 from planar_sym.errors import InputError
+from planar_sym.model.robot import Robot, load
 
 TOL = 1e-12
 FAST = ("mass_matrix", "bias", "gravity", "tree_inverse_dynamics", "energy")

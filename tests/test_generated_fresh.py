@@ -16,7 +16,7 @@ import pytest
 from conftest import ALL_ROBOTS, GENERATED, ROOT
 
 from derive.codegen import input_hash
-from planar_sym import description
+from planar_sym.model import description
 
 FIX = "generated/ is stale: run `make derive`"
 

@@ -34,9 +34,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from planar_sym import description
 from planar_sym.errors import DescriptionError
-from planar_sym.units import UNITS
+from planar_sym.model import description
+from planar_sym.model.units import UNITS
 
 ROBOTS = Path(__file__).resolve().parent.parent / "planar_sym" / "robots"
 BASES = {name: tomllib.loads((ROBOTS / f"{name}.toml").read_text())

@@ -36,8 +36,8 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import planar_sym as ps
-from planar_sym.dynamics import Robot
 from planar_sym.errors import InputError
+from planar_sym.model.robot import Robot
 
 ROBOT_EXAMPLES = 8
 INPUT_EXAMPLES = 300

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import pytest
 
-from planar_sym.library import Library
+from planar_sym.model.library import Library
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"

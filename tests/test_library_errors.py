@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from conftest import GENERATED
 
-from planar_sym.dynamics import Robot, load
 from planar_sym.errors import InputError, LibraryError
-from planar_sym.library import Library, build, library_path, read_manifest
+from planar_sym.model.library import Library, build, library_path, read_manifest
+from planar_sym.model.robot import Robot, load
 
 
 @pytest.fixture

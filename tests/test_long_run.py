@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import planar_sym as ps
-from planar_sym.closed_chain import simulate_closed
+from planar_sym.dynamics.forward_closed import simulate_closed
 from planar_sym.errors import SimulationError
 
 DRIFT_BOUND = 5e-10
@@ -101,7 +101,7 @@ def _failing_solve_ivp(*args, **kwargs):
 def test_known_bug_scipy_failure_before_first_output(robot_name, monkeypatch):
     import scipy.integrate
 
-    from planar_sym import simulation
+    from planar_sym.dynamics import forward as simulation
 
     monkeypatch.setattr(simulation, "solve_ivp", _failing_solve_ivp)  # tree robots
     monkeypatch.setattr(scipy.integrate, "solve_ivp", _failing_solve_ivp)  # closed chains

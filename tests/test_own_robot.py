@@ -20,8 +20,8 @@ from conftest import ROOT, copy_builtin
 
 import planar_sym as ps
 from planar_sym.cli import main
-from planar_sym.closed_chain import from_actuated
 from planar_sym.errors import LibraryError
+from planar_sym.motion.closure import from_actuated
 
 EXAMPLES = ROOT / "examples"
 H = 1e-3  # s, time step of the differences

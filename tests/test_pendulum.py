@@ -18,8 +18,8 @@ from conftest import TEST_ROBOTS, record, rel_err
 from scipy.integrate import solve_ivp
 
 from derive.__main__ import main as derive_main
-from planar_sym.dynamics import Robot
-from planar_sym.library import Library
+from planar_sym.model.library import Library
+from planar_sym.model.robot import Robot
 
 TOL = 1e-12
 N = 40

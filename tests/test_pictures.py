@@ -19,13 +19,14 @@ from conftest import ALL_ROBOTS, CLOSED, ROBOTS_DIR
 from PIL import Image
 
 from planar_sym.cli import main
-from planar_sym.closed_chain import complete_rates
-from planar_sym.description import load as load_description
-from planar_sym.drawing import drawing_figure, geometry
-from planar_sym.dynamics import load
+from planar_sym.dynamics.inverse import SPLIT_PARTS
 from planar_sym.errors import PlanarSymError
-from planar_sym.scenarios import SCENARIOS, SPLIT_PARTS, motion, run
-from planar_sym.units import factor
+from planar_sym.model.description import load as load_description
+from planar_sym.model.robot import load
+from planar_sym.model.units import factor
+from planar_sym.motion.closure import complete_rates
+from planar_sym.outputs.drawing import drawing_figure, geometry
+from planar_sym.study.scenarios import SCENARIOS, motion, run
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -244,7 +245,7 @@ def test_split_gravity_of_the_2dof_arm_by_hand():
     rng = np.random.default_rng(4)
     q = rng.uniform(-np.pi, np.pi, (7, 2))
     zero = np.zeros_like(q)
-    from planar_sym.scenarios import torque_split
+    from planar_sym.dynamics.inverse import torque_split
 
     parts = torque_split(arm, q, zero, zero)
     m1, m_m, m2 = p["m_link1"], p["m_motor2"], p["m_link2"]
@@ -261,7 +262,8 @@ def test_closed_chain_split_by_virtual_work(robot):
     tau_part[k] = part . v_k, with v_k the loop-consistent velocity of unit actuated rate k."""
     name = {"five_bar_type1": "five_bar_type1_move_y", "five_bar_type2": "five_bar_type2_move_x",
             "parallel_3rrr": "parallel_3rrr_move_x"}[robot]
-    from planar_sym.scenarios import get, joint_motion, torque_split
+    from planar_sym.dynamics.inverse import torque_split
+    from planar_sym.study.scenarios import get, joint_motion
 
     r = load(robot)
     jt, _ = joint_motion(get(name), r, np.linspace(0.0, get(name).duration_s, 9))

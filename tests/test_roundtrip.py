@@ -21,11 +21,11 @@ import itertools
 import numpy as np
 import pytest
 
-from planar_sym.dynamics import load
-from planar_sym.kinematics import inverse_kinematics
-from planar_sym.scenarios import SCENARIOS, run, task_to_si
-from planar_sym.simulation import simulate
-from planar_sym.trajectory import cubic
+from planar_sym.dynamics.forward import simulate
+from planar_sym.model.robot import load
+from planar_sym.motion.ik import inverse_kinematics
+from planar_sym.motion.profiles import cubic
+from planar_sym.study.scenarios import SCENARIOS, run, task_to_si
 
 SEGMENT_S = 0.5
 ROUND_TRIP_TOL_RAD = 1e-8  # measured <= 3e-10 rad (S4), ~1e-11 elsewhere

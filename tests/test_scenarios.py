@@ -11,8 +11,8 @@ import io
 import numpy as np
 import pytest
 
-from planar_sym import description
-from planar_sym.scenarios import SCENARIOS, run
+from planar_sym.model import description
+from planar_sym.study.scenarios import SCENARIOS, run
 
 SAMPLES = 21
 

@@ -12,9 +12,9 @@ import sys
 import pytest
 from conftest import ALL_ROBOTS, GENERATED, ROOT
 
-from planar_sym import validate
+from planar_sym.analysis import validate
 from planar_sym.cli import main
-from planar_sym.dynamics import load
+from planar_sym.model.robot import load
 
 ROW_COUNT = {"tree": 4, "closed": 7}
 

@@ -16,9 +16,9 @@ from conftest import ALL_ROBOTS, CLOSED, TEST_ROBOTS, TREES, random_states, reco
 from pinocchio_model import pinocchio_model
 from pinocchio_model import xyz as _xyz
 
-from planar_sym import description
-from planar_sym.description import GROUND
-from planar_sym.dynamics import load
+from planar_sym.model import description
+from planar_sym.model.description import GROUND
+from planar_sym.model.robot import load
 
 TOL = 1e-10
 N_SAMPLES = 50

@@ -13,11 +13,11 @@ import re
 import numpy as np
 import pytest
 
-from planar_sym import closed_chain
-from planar_sym.dynamics import load
 from planar_sym.errors import InputError, WorkspaceError
-from planar_sym.kinematics import COND_LIMIT, inverse_kinematics
-from planar_sym.trajectory import coeff_3rd, cubic
+from planar_sym.model.robot import COND_LIMIT, load
+from planar_sym.motion import closure
+from planar_sym.motion.ik import inverse_kinematics
+from planar_sym.motion.profiles import coeff_3rd, cubic
 
 T = 2.0
 TIMES = np.linspace(0.0, T, 9)  # 0.25 s apart
@@ -233,9 +233,9 @@ def test_five_bar_type2_actuated_route_to_parallel_singularity():
     t = np.linspace(0.0, 1.0, 5)
     tr = cubic([0.0, np.pi / 2], [np.pi / 2, 0.0], 1.0, t)
     with pytest.raises(WorkspaceError, match=r"singular pose at t = 1 s \(sample 4\)"):
-        closed_chain.from_actuated(robot, t, tr.x, tr.xd, tr.xdd)
+        closure.from_actuated(robot, t, tr.x, tr.xd, tr.xdd)
     tr = cubic([0.0, np.pi / 2], [np.pi / 3, 0.0], 1.0, t)  # 60 deg: fine
-    closed_chain.from_actuated(robot, t, tr.x, tr.xd, tr.xdd)
+    closure.from_actuated(robot, t, tr.x, tr.xd, tr.xdd)
 
 
 def test_closed_chain_inverse_dynamics_at_parallel_singularity():

@@ -24,7 +24,7 @@ class SymbolicRobot:
         import sympy as sp
 
         from derive import model as derive_model
-        from planar_sym import description
+        from planar_sym.model import description
 
         self.robot = robot
         self.model = derive_model.build(description.load(robot.name))
@@ -86,7 +86,7 @@ class SymbolicRobot:
 
     def simulate_closed(self, q0, qd0, t_end: float, *, rtol: float, atol: float, t_eval,
                         segment_s: float = 0.1):
-        """planar_sym.closed_chain.simulate_closed's method, every term lambdified (zero torque)."""
+        """planar_sym.forward_closed.simulate_closed's method, every term lambdified (zero torque)."""
         from scipy.integrate import solve_ivp
 
         n, m = self.n, self.m

@@ -23,7 +23,7 @@ import math
 
 import numpy as np
 
-from planar_sym.description import GROUND, Description
+from planar_sym.model.description import GROUND, Description
 
 
 def _v(*xs: float) -> str:

@@ -19,8 +19,8 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from planar_sym import description
-from planar_sym.description import GROUND
+from planar_sym.model import description
+from planar_sym.model.description import GROUND
 
 
 def xyz(xy) -> np.ndarray:

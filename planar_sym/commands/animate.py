@@ -69,11 +69,11 @@ def write_animation(name: str, path: Path, frames: int = 60, fps: float = 20.0,
     """
     from matplotlib.animation import FuncAnimation
 
-    from ..description import load as load_description
-    from ..drawing import MM, Scene, geometry
-    from ..plots import new_figure, tight
-    from ..results import atomic_files
-    from ..scenarios import get, motion
+    from ..files import atomic_files
+    from ..model.description import load as load_description
+    from ..outputs.drawing import MM, Scene, geometry
+    from ..outputs.plots import new_figure, tight
+    from ..study.scenarios import get, motion
 
     path = Path(path)
     sc = get(name)

@@ -12,9 +12,9 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..description import builtin_robots
-    from ..dynamics import locate
-    from ..library import Library
+    from ..model.description import builtin_robots
+    from ..model.library import Library
+    from ..model.robot import locate
     from ..progress import Progress
 
     robots = args.robots or builtin_robots()

@@ -21,10 +21,11 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..description import builtin_robots
-    from ..results import atomic_files, write
-    from ..scenarios import SCENARIOS
-    from ..scenarios import run as run_scenario
+    from ..files import atomic_files
+    from ..model.description import builtin_robots
+    from ..study.result import write
+    from ..study.scenarios import SCENARIOS
+    from ..study.scenarios import run as run_scenario
     from .animate import write_animation, writer_for
     from .draw import save_drawing
 
@@ -79,7 +80,7 @@ def peaks_text(result) -> str:
 
 def index_text(results, robots: list[str]) -> str:
     """``README.md`` of a demo folder: every scenario with its files, every robot drawn."""
-    from ..description import load as load_description
+    from ..model.description import load as load_description
 
     about = ("Made by `planar-sym demo`: every scenario of the seed chapter (CSV, the seed-like "
              "plot, the torque split into inertial `M qdd`, velocity `C qd` and gravity `g` "

@@ -11,12 +11,10 @@ writes), and compiled into the cache. Load it with
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
-from ..errors import DescriptionError, PlanarSymError
-
-NEEDS_SYMPY = "deriving needs SymPy: pip install planar-sym[derive]"
+from ..errors import DescriptionError
+from ..model.deriving import derive_modules
 
 #: the copy of the description written next to the generated files
 DESCRIPTION_COPY = "description.toml"
@@ -32,36 +30,9 @@ def register(sub) -> None:
     p.set_defaults(fn=run)
 
 
-def derive_modules():
-    """The build-time ``derive`` package, imported only now: the runtime never needs SymPy."""
-    try:
-        import sympy  # noqa: F401  (checked first: derive may be imported already in-process)
-    except ImportError:
-        raise PlanarSymError(NEEDS_SYMPY) from None
-    try:
-        import derive.__main__ as derive_main
-    except ModuleNotFoundError as exc:
-        if exc.name != "derive":
-            raise PlanarSymError(f"deriving needs {exc.name!r}, which is missing ({exc})") from None
-        derive_main = _from_source_checkout()
-    return derive_main
-
-
-def _from_source_checkout():
-    # an editable install maps only the planar_sym package; derive/ sits beside it in a checkout
-    root = Path(__file__).resolve().parents[2]
-    if not (root / "derive" / "__init__.py").is_file():
-        raise PlanarSymError("deriving needs the build-time `derive` package, which is not "
-                             "installed: run from a source checkout of planar-sym")
-    sys.path.insert(0, str(root))
-    import derive.__main__ as derive_main
-
-    return derive_main
-
-
 def validate_all(robots: list[str]) -> list:
     """Every description, validated; one DescriptionError listing every problem of every file."""
-    from ..description import load
+    from ..model.description import load
 
     descs, problems = [], []
     for robot in robots:
@@ -79,8 +50,8 @@ def validate_all(robots: list[str]) -> list:
 
 
 def run(args) -> int:
-    from ..description import robots_dir
-    from ..library import Library
+    from ..model.description import robots_dir
+    from ..model.library import Library
     from ..progress import Progress
 
     derive_main = derive_modules()

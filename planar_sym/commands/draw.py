@@ -39,8 +39,8 @@ def save_drawing(robot_name: str, path: Path, dpi: int = 100) -> Path:
     dpi : int
         Pixels per inch.
     """
-    from ..drawing import drawing_figure
-    from ..results import atomic_files
+    from ..files import atomic_files
+    from ..outputs.drawing import drawing_figure
 
     path = Path(path)
     if path.suffix.lower() not in FORMATS:

@@ -17,7 +17,7 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..equations import equations
+    from ..outputs.equations import equations
 
     sys.stdout.write(equations(args.robot).format(args.format))
     return 0

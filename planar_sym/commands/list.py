@@ -8,8 +8,8 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..description import builtin_robots
-    from ..scenarios import DEFAULT_SAMPLES, SCENARIOS
+    from ..model.description import builtin_robots
+    from ..study.scenarios import DEFAULT_SAMPLES, SCENARIOS
 
     print("Scenarios (planar-sym run NAME --out DIR):")
     for sc in SCENARIOS.values():

@@ -21,9 +21,9 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..results import write
-    from ..scenarios import SCENARIOS, get
-    from ..scenarios import run as run_scenario
+    from ..study.result import write
+    from ..study.scenarios import SCENARIOS, get
+    from ..study.scenarios import run as run_scenario
 
     names = list(SCENARIOS) if args.all else args.scenarios
     if not names:

@@ -33,10 +33,10 @@ def table(rows) -> str:
 
 
 def run(args) -> int:
-    from ..dynamics import load
+    from ..analysis.validate import run_all
     from ..errors import InputError
+    from ..model.robot import load
     from ..progress import Progress
-    from ..validate import run_all
 
     if args.samples < 1 or not args.seconds > 0:
         raise InputError("--samples must be >= 1 and --seconds > 0")

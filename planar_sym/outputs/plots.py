@@ -11,9 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .results import Result
+from ..dynamics.inverse import SPLIT_PARTS
+from ..study.result import Result
 
-#: colours of the split parts (plotting order of scenarios.SPLIT_PARTS), total in black
+#: colours of the split parts (plotting order of dynamics.inverse.SPLIT_PARTS), total in black
 SPLIT_COLOURS = ("tab:blue", "tab:orange", "tab:green")
 
 
@@ -75,11 +76,9 @@ def figure(result: Result):
 def split_figure(result: Result):
     """Each actuated torque (N*m) against t (s) with its parts M qdd, C qd and g.
 
-    The parts are ``result.split`` (see ``scenarios.torque_split``); the total is the torque
+    The parts are ``result.split`` (see ``dynamics.inverse.torque_split``); the total is the torque
     column ``tau<k>`` where the result has one, else (forward dynamics, zero torque) their sum.
     """
-    from .scenarios import SPLIT_PARTS
-
     parts = [result.split[k] for k in SPLIT_PARTS]
     n_act = parts[0].shape[1]
     fig, axes = _axes(n_act)

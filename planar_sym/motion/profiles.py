@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 
 
 @dataclass(frozen=True)
@@ -26,6 +26,17 @@ class Trajectory:
     x: np.ndarray
     xd: np.ndarray
     xdd: np.ndarray
+
+
+@dataclass(frozen=True)
+class JointTrajectory:
+    """Joint motion at times ``t_s``: q (rad), qd (rad/s), qdd (rad/s^2), each (N, n)."""
+
+    t_s: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+
 
 
 def coeff_3rd(sp, sv, ep, ev, tsec: float) -> np.ndarray:

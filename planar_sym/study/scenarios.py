@@ -10,11 +10,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .dynamics import Robot, load
-from .errors import InputError
-from .kinematics import JointTrajectory, inverse_kinematics
-from .results import Result
-from .trajectory import cubic
+from ..dynamics.inverse import torque_split
+from ..errors import InputError
+from ..model.robot import Robot, load
+from ..motion.ik import inverse_kinematics
+from ..motion.profiles import JointTrajectory, cubic
+from .result import Result
 
 
 @dataclass(frozen=True)
@@ -128,7 +129,7 @@ def _closed(sc: Scenario, robot: Robot, jt: JointTrajectory, cols: dict) -> Resu
 
 
 def _forward(sc: Scenario, robot: Robot, t: np.ndarray) -> Result:
-    from .simulation import simulate
+    from ..dynamics.forward import simulate
 
     sim = simulate(robot, np.radians(sc.x0), np.zeros(robot.n), (0.0, sc.duration_s), t_eval=t)
     cols = {"t": t}
@@ -140,55 +141,6 @@ def _forward(sc: Scenario, robot: Robot, t: np.ndarray) -> Result:
     qdd = robot.forward_dynamics(sim.q, sim.qd, sim.tau)
     return Result(sc.name, sc.summary, cols, kind="angles", note=note,
                   split=torque_split(robot, sim.q, sim.qd, qdd))
-
-
-#: the parts of the torque split, in plotting order: name -> label in the plots
-SPLIT_PARTS = {"inertial": "M qdd", "velocity": "C qd", "gravity": "g"}
-
-
-def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
-    """The actuated torques split into inertial, velocity-dependent and gravity parts.
-
-    .. code:: text
-
-        tau = tau(M qdd) + tau(C qd) + tau(g)
-
-    For a tree every joint is actuated and the parts are the terms themselves. For a closed
-    chain the torques come from the linear solve ``[S^T Phi_q^T] [tau; lambda] = M qdd + h``,
-    so each term is pushed through the same matrix and the parts still add up to tau.
-
-    Parameters
-    ----------
-    robot : Robot
-    q, qd, qdd : ndarray, shape (N, n)
-        Every coordinate (rad, rad/s, rad/s^2), consistent with the loops for closed chains.
-    t : ndarray, shape (N,), optional
-        Times (s), only to name the sample of a singular pose.
-
-    Returns
-    -------
-    dict
-        ``SPLIT_PARTS`` keys -> ndarray (N, actuated), N*m.
-    """
-    q, qd, qdd = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (q, qd, qdd))
-    n_s, n = q.shape
-    mass = robot.mass_matrix(q).reshape(n_s, n, n)
-    h = robot.bias(q, qd).reshape(n_s, n)
-    g = robot.gravity(q).reshape(n_s, n)
-    terms = np.stack([(mass @ qdd[..., None])[..., 0], h - g, g], axis=-1)  # (N, n, 3)
-    if robot.is_closed_chain:
-        terms = _through_actuation(robot, q, terms, t)
-    return {k: terms[:, :, i] for i, k in enumerate(SPLIT_PARTS)}
-
-
-def _through_actuation(robot: Robot, q: np.ndarray, terms: np.ndarray, t) -> np.ndarray:
-    """Actuated-torque share of each column of ``terms`` (N, n, parts), as in closed_chain."""
-    from .closed_chain import actuation_matrix
-
-    a = actuation_matrix(robot, q, t)
-    n_act = len(robot.actuated)
-    # one solve for all parts: the multipliers' shares are dropped, torques kept
-    return np.linalg.solve(a, terms)[:, :n_act, :]
 
 
 def motion(name: str, samples: int) -> tuple[Robot, np.ndarray, np.ndarray]:
@@ -216,7 +168,7 @@ def motion(name: str, samples: int) -> tuple[Robot, np.ndarray, np.ndarray]:
     robot = load(sc.robot)
     t = np.linspace(0.0, sc.duration_s, samples)
     if sc.kind == "forward":
-        from .simulation import simulate
+        from ..dynamics.forward import simulate
 
         sim = simulate(robot, np.radians(sc.x0), np.zeros(robot.n), (0.0, sc.duration_s),
                        t_eval=t)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .description import GROUND, Description
+from ..model.description import GROUND, Description
 
 MM = 1e3  # m -> mm: pictures use the seed's unit
 
@@ -296,8 +296,8 @@ def drawing_figure(robot_name: str, q=None):
     -------
     matplotlib.figure.Figure
     """
-    from .description import load as load_description
-    from .dynamics import load
+    from ..model.description import load as load_description
+    from ..model.robot import load
     from .plots import new_figure, tight
 
     desc = load_description(robot_name)  # first: names the known robots if this is not one

@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .dynamics import Robot
-from .errors import PlanarSymError
+from ..errors import PlanarSymError
+from ..model.robot import Robot
 
 #: 4th-order central differences: f'(0) ~ sum c f(k s) / s, f''(0) ~ sum c f(k s) / s^2.
 #: Truncation ~ s^4 f^(5), rounding ~ eps f / s: s = 1e-3 keeps both near 1e-12 relative.
@@ -75,7 +75,7 @@ def random_states(robot: Robot, samples: int, seed: int):
 # -- (a) SymPy ----------------------------------------------------------------------------------
 def find_description(robot: Robot, given: Path | None = None) -> Path | None:
     """The description: given, else the copy ``planar-sym derive`` writes, else the manifest's."""
-    from .description import resolve, robots_dir
+    from ..model.description import resolve, robots_dir
 
     folder, manifest = robot.library.folder, robot.library.manifest
     root = Path(__file__).resolve().parent.parent  # manifest inputs are relative to the repo
@@ -97,8 +97,8 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
     if path is None:
         return Row(name, None, TOL_SYMBOLIC, "skipped",
                    "skipped: no description file found (pass --description)")
-    from . import description as descriptions
-    from .commands.derive import derive_modules
+    from ..commands.derive import derive_modules
+    from ..model import description as descriptions
 
     derive_modules()  # the build-time package, found in a source checkout too
     from derive.model import build
@@ -254,8 +254,8 @@ def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
 def motion(robot: Robot, samples: int, amplitude: float) -> dict:
     """Joint motion ``q0 + A sin(2 pi t + phase_i)`` over 1 s from the drawn pose, at the times
     t + k STEP (k = -2..2); closed chains move their actuated joints and solve the others."""
-    from .closed_chain import from_actuated
-    from .kinematics import JointTrajectory
+    from ..motion.closure import from_actuated
+    from ..motion.profiles import JointTrajectory
 
     idx = np.array(robot.actuated if robot.is_closed_chain else range(robot.n), dtype=int)
     phase = np.linspace(0.0, np.pi, len(idx), endpoint=False)
@@ -290,7 +290,7 @@ def check_power(robot: Robot, traj: dict) -> Row:
 def check_null_space(robot: Robot, traj: dict) -> Row:
     """Torques from the multiplier solve against ``G^T (M qdd + h)``, G = dq/dq_actuated, with
     M qdd + h from the energy route: the constraint forces do no work along G."""
-    from .closed_chain import partition
+    from ..motion.closure import partition
 
     act, pas = partition(robot)
     j = traj[0]
@@ -323,7 +323,7 @@ def check_constraints(robot: Robot, traj: dict, sim=None) -> list[Row]:
 def free_motion(robot: Robot, seconds: float = 1.0):
     """Zero torque from the drawn pose at rest; pushed (actuated joints 1 rad/s) if that pose
     does not move by itself (an equilibrium, or no gravity)."""
-    from .simulation import simulate
+    from ..dynamics.forward import simulate
 
     t = np.linspace(0.0, seconds, 201)
     sim = simulate(robot, robot.q_drawn, np.zeros(robot.n), (0.0, seconds), t_eval=t)

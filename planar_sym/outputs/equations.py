@@ -2,7 +2,7 @@
 
 .. code:: python
 
-    from planar_sym.equations import equations
+    from planar_sym import equations
     eq = equations("serial_2dof")
     print(eq.text)          # terminal; eq.latex is a LaTeX document, eq.markdown renders on GitHub
     eq                      # last line of a notebook cell: rendered (Markdown with LaTeX math)
@@ -16,8 +16,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from .errors import InputError, LibraryError
-from .library import find_generated, read_manifest
+from ..errors import InputError, LibraryError
+from ..model.library import find_generated, read_manifest
 
 #: output format -> generated file
 FILES = {"text": "equations.txt", "latex": "equations.tex", "markdown": "equations.md"}

@@ -25,7 +25,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .errors import DescriptionError
+from ..errors import DescriptionError
 from .units import SI, factor
 
 #: Joints (and loops) must close in the drawn configuration to this gap, in metres. The seed's
@@ -169,7 +169,7 @@ class Description:
 
 def robots_dir() -> Path:
     """Folder of the built-in robot descriptions."""
-    return Path(__file__).resolve().parent / "robots"
+    return Path(__file__).resolve().parents[1] / "robots"
 
 
 def builtin_robots() -> list[str]:

@@ -24,16 +24,22 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import LibraryError
+from ..errors import LibraryError
 
 CFLAGS = ("-O3", "-fPIC", "-shared", "-std=c99")
-_DIR = Path(__file__).resolve().parent
+_DIR = Path(__file__).resolve().parent  # planar_sym/model: _fastcall.c
+_PKG = _DIR.parent  # planar_sym: generated/ ships inside it
+
+
+def builtin_generated_dirs() -> list[Path]:
+    """The built-in robots' generated folders: inside the installed package, or the checkout's."""
+    return [(_PKG / "generated").resolve(), (_PKG.parent / "generated").resolve()]
 
 
 def generated_dirs() -> list[Path]:
     """Where generated robots are looked for, first match wins."""
     dirs = [Path(d) for d in os.environ.get("PLANAR_SYM_GENERATED", "").split(os.pathsep) if d]
-    return dirs + [_DIR / "generated", _DIR.parent / "generated"]
+    return dirs + builtin_generated_dirs()
 
 
 def find_generated(robot: str) -> Path:
@@ -373,27 +379,15 @@ class SingleCall:
         return self._outs
 
 
-_INTEGRATOR = None
-
-
-def integrator():
-    """``planar_sym_dopri5`` from _integrate.c (compiled once per source hash), via ctypes."""
-    global _INTEGRATOR
-    if _INTEGRATOR is None:
-        src = _DIR / "_integrate.c"
-        key = hashlib.sha256(src.read_bytes() + " ".join(CFLAGS).encode()).hexdigest()[:12]
-        target = cache_dir() / f"_integrate-{key}.so"
-        try:
-            lib = ctypes.CDLL(str(compile_shared([src], target, CFLAGS)))
-        except OSError:  # built, yet unloadable: build it anew and load a private copy
-            fresh = _fresh_name(compile_shared([src], target, CFLAGS, force=True))
-            lib = ctypes.CDLL(str(fresh))
-            fresh.unlink()
-        fn = lib.planar_sym_dopri5
-        ptr = ctypes.c_void_p
-        fn.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int, ptr, ptr, ptr,
-                       ptr, ctypes.c_double, ptr, ctypes.c_int, ptr, ctypes.c_double,
-                       ctypes.c_double, ctypes.c_longlong, ptr, ptr, ptr]
-        fn.restype = ctypes.c_int
-        _INTEGRATOR = fn
-    return _INTEGRATOR
+def load_helper(src: Path) -> ctypes.CDLL:
+    """A robot-independent C helper (an integrator, a Newton loop), compiled once per source
+    hash into the cache and loaded; a corrupt cached copy is rebuilt and loaded privately."""
+    key = hashlib.sha256(src.read_bytes() + " ".join(CFLAGS).encode()).hexdigest()[:12]
+    target = cache_dir() / f"{src.stem}-{key}.so"
+    try:
+        return ctypes.CDLL(str(compile_shared([src], target, CFLAGS)))
+    except OSError:  # built, yet unloadable: build it anew and load a private copy
+        fresh = _fresh_name(compile_shared([src], target, CFLAGS, force=True))
+        lib = ctypes.CDLL(str(fresh))
+        fresh.unlink()
+        return lib

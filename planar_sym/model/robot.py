@@ -17,8 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError, LibraryError
-from .library import Library, fastcall, find_generated
+from ..errors import InputError, LibraryError, WorkspaceError
+from .library import Library, builtin_generated_dirs, fastcall, find_generated
+
+#: a Jacobian whose condition number exceeds this is called singular. Near a singularity the
+#: condition number grows like 1 / distance, and joint rates and torques with it: at 1e6 they
+#: are already about a million times their size at a well-conditioned pose.
+COND_LIMIT = 1e6
 
 
 @dataclass(frozen=True)
@@ -116,6 +121,12 @@ class Robot:
         return len(self.coordinates)
 
     @property
+    def is_builtin(self) -> bool:
+        """True for the package's own robots (their generated folders ship with it): a user's
+        robot that shares a built-in name is not one, so it never gets a built-in's solver."""
+        return self.library.folder.resolve().parent in builtin_generated_dirs()
+
+    @property
     def is_closed_chain(self) -> bool:
         return self.n_constraints > 0
 
@@ -186,11 +197,32 @@ class Robot:
         """Actuated torques (N, actuated) in N*m and cut-joint forces lambda (N, 2 * loops) in N.
 
         q, qd, qdd: every coordinate, consistent with the loops (from inverse_kinematics or
-        closed_chain.from_actuated). Convention: M qdd + h = S^T tau + Phi_q^T lambda.
+        motion.closure.from_actuated). Convention: M qdd + h = S^T tau + Phi_q^T lambda, solved
+        in one generated function; a pose where the passive-joint constraint Jacobian Phi_p is
+        singular (1-norm condition number above COND_LIMIT) raises WorkspaceError.
+        ``t`` (s, optional) only names the time of a bad sample.
         """
-        from .closed_chain import inverse_dynamics
+        if not self.is_closed_chain:
+            raise InputError(f"{self.name} is not a closed chain: use inverse_dynamics")
+        q, qd, qdd = (as_samples(k, a, self.n, times=t) for k, a in (("q", q), ("qd", qd),
+                                                                       ("qdd", qdd)))
+        tau, lam, cond = self._closed_inverse_dynamics(q, qd, qdd)
+        tau, lam, cond = (np.asarray(a).reshape(len(q), -1) for a in (tau, lam, cond))
+        bad = ~np.isfinite(cond[:, 0]) | (cond[:, 0] > COND_LIMIT)
+        if bad.any():
+            k = int(np.argmax(bad))
+            when = f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
+            raise WorkspaceError(f"{self.name}: singular pose at {when}: the passive-joint "
+                                 f"constraint Jacobian Phi_p (which the actuation matrix "
+                                 f"[S^T Phi_q^T] needs) has 1-norm condition number "
+                                 f"{cond[k, 0]:.3g} > {COND_LIMIT:g}")
+        return tau, lam
 
-        return inverse_dynamics(self, q, qd, qdd, t)
+    def _closed_inverse_dynamics(self, q, qd, qdd):
+        """(tau, lambda, cond) of the fused generated function (exact path)."""
+        r = self._fns["closed_inverse_dynamics"](len(q), {"q": q, "qd": qd, "qdd": qdd,
+                                                          "p": self.p})
+        return r["tau"], r["lambda"], r["cond"]
 
     def forward_dynamics(self, q, qd, tau) -> np.ndarray:
         """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2."""

@@ -1,28 +1,21 @@
-"""Forward dynamics: integrate M(q) qdd + h(q, qd) = tau with error control.
+"""Shared by both forward-dynamics paths: the result type, torque inputs, time grids, and the
+adaptive Dormand-Prince 5(4) integrator in C (``_integrate.c``).
 
-Methods:
-
-* ``"dopri5"`` (default): adaptive Dormand-Prince 5(4) written in C (planar_sym/_integrate.c),
-  calling the compiled forward dynamics with no Python per step; steps land exactly on the
-  requested output times. For zero or constant torques.
-* any SciPy ``solve_ivp`` method (``"DOP853"``, ``"RK45"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``)
-  on the compiled ``qdd = M^-1 (tau - h)``; Radau/BDF/LSODA get the compiled Jacobian. A torque
-  that is a function of time always goes this way (DOP853 unless told otherwise).
-
-Closed chains are in ``planar_sym.closed_chain``.
+The C integrator calls the compiled dynamics with no Python per step: error control as in
+Hairer, Norsett & Wanner, FSAL, steps shortened to land exactly on every output time.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
-from .dynamics import Robot, as_samples
-from .errors import InputError, SimulationError
-from .library import SingleCall, integrator
+from ..errors import InputError, SimulationError
+from ..model.library import load_helper
+from ..model.robot import Robot
 
 Torque = None | float | np.ndarray | Callable[[float], np.ndarray]
 SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
@@ -91,66 +84,6 @@ def time_grid(t_span: tuple[float, float], t_eval) -> np.ndarray:
     return t
 
 
-def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torque = None,
-             t_eval=None, rtol: float = 1e-11, atol: float = 1e-12,
-             method: str = "dopri5", max_steps: int = 10_000_000) -> Simulation:
-    """Integrate a robot from (q0 rad, qd0 rad/s) over ``t_span`` (s) under ``torque`` (N*m).
-
-    ``torque``: None (zero), a constant (n,) vector, or a function of time returning (n,);
-    for a closed chain, torques of the actuated joints and ``q0`` the full coordinates.
-    Returns the state at ``t_eval`` (default: 1001 evenly spaced times), with energies.
-    """
-    if robot.is_closed_chain:
-        from .closed_chain import simulate_closed
-        return simulate_closed(robot, q0, qd0, t_span, torque=torque, t_eval=t_eval,
-                               rtol=rtol, atol=atol, method=method)
-    n = robot.n
-    x0 = np.concatenate([as_samples("q0", q0, n)[0], as_samples("qd0", qd0, n)[0]])
-    t = time_grid(t_span, t_eval)
-    tau_of = torque_function(torque, n)
-    if method == "dopri5" and not callable(torque):
-        fd = robot.library.address("forward_dynamics")
-        y, n_rhs = dopri5(robot, 0, fd, x0, t, tau_of(t[0]), rtol, atol, max_steps)
-        q, qd = y[:, :n].copy(), y[:, n:].copy()
-        kin, pot = robot.energy(q, qd)
-        return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
-                          rtol, atol, n_rhs)
-    method = "DOP853" if method == "dopri5" else method
-    if method not in SCIPY_METHODS:
-        raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
-    fd = SingleCall(robot.library.functions["forward_dynamics"], robot.p)
-    count, last_t = [0], [t[0]]
-
-    def rhs(tt, x):
-        count[0] += 1
-        last_t[0] = tt
-        (qdd,) = fd(x[:n], x[n:], tau_of(tt))
-        if not np.all(np.isfinite(qdd)):  # else SciPy shrinks its step for ever
-            raise SimulationError(f"{robot.name}: accelerations became {qdd.tolist()} at "
-                                  f"t = {tt:.6g} s (state {x.tolist()})")
-        return np.concatenate([x[n:], qdd])
-
-    jac = None
-    if method in ("Radau", "BDF", "LSODA"):
-        fj = SingleCall(robot.library.functions["forward_dynamics_jacobian"], robot.p)
-
-        def jac(tt, x):
-            dq, dqd = fj(x[:n], x[n:], tau_of(tt))
-            top = np.hstack([np.zeros((n, n)), np.eye(n)])
-            return np.vstack([top, np.hstack([dq.reshape(n, n).T, dqd.reshape(n, n).T])])
-
-    extra = {"jac": jac} if jac is not None else {}
-    sol = solve_ivp(rhs, (t[0], t[-1]), x0, method=method, t_eval=t, rtol=rtol, atol=atol,
-                    **extra)
-    if not sol.success:
-        raise SimulationError(f"{robot.name}: integration failed at t = {last_t[0]:.6g} s: "
-                              f"{sol.message}")
-    q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
-    kin, pot = robot.energy(q, qd)
-    taus = np.array([tau_of(tt) for tt in t])
-    return Simulation(t, q, qd, taus, kin, pot, method, rtol, atol, count[0])
-
-
 _DOPRI5_ERRORS = {1: "the right-hand side failed (singular mass or KKT matrix?)",
                   2: "the step size fell below 1e-14 s: the problem is stiff or singular here",
                   3: "too many steps (raise max_steps or loosen the tolerances)",
@@ -184,3 +117,22 @@ def dopri5(robot: Robot, kind: int, fn: int, y0: np.ndarray, t: np.ndarray, tau:
         raise SimulationError(f"{robot.name}: integration failed at t = {t_fail.value:.6g} s: "
                               f"{_DOPRI5_ERRORS.get(rc, rc)}")
     return out, int(stats[0])
+
+
+_INTEGRATOR = None
+
+
+def integrator():
+    """``planar_sym_dopri5`` from _integrate.c (compiled once per source hash), via ctypes."""
+    global _INTEGRATOR
+    if _INTEGRATOR is None:
+        import ctypes
+
+        fn = load_helper(Path(__file__).resolve().parent / "_integrate.c").planar_sym_dopri5
+        ptr = ctypes.c_void_p
+        fn.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int, ptr, ptr, ptr,
+                       ptr, ctypes.c_double, ptr, ctypes.c_int, ptr, ctypes.c_double,
+                       ctypes.c_double, ctypes.c_longlong, ptr, ptr, ptr]
+        fn.restype = ctypes.c_int
+        _INTEGRATOR = fn
+    return _INTEGRATOR

@@ -2,16 +2,13 @@
 
 from __future__ import annotations
 
-import contextlib
-import os
-import tempfile
-from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
+from ..files import atomic_files
 
 
 @dataclass(frozen=True)
@@ -20,7 +17,7 @@ class Result:
 
     ``kind`` says what the main figure shows: ``"angles"`` (joint angles, deg) or
     ``"torques"`` (N*m). ``split`` holds the actuated torques split into parts (keys of
-    ``scenarios.SPLIT_PARTS``: inertial ``M qdd``, velocity ``C qd``, gravity ``g``), each
+    ``dynamics.inverse.SPLIT_PARTS``: inertial ``M qdd``, velocity ``C qd``, gravity ``g``), each
     (N, actuated) in N*m, summing to the torques; it is not written to the CSV.
     """
 
@@ -53,39 +50,13 @@ class Result:
             False: joint angles (deg) or torques (N*m) against time (s). True: each actuated
             torque (N*m) with its parts ``M qdd``, ``C qd`` and ``g``.
         """
-        from .plots import figure, split_figure
+        from ..outputs.plots import figure, split_figure
 
         if not split:
             return figure(self)
         if not self.split:
             raise InputError(f"{self.name} has no torque split")
         return split_figure(self)
-
-
-@contextlib.contextmanager
-def atomic_files(targets: list[Path]) -> Iterator[list[Path]]:
-    """Temporary paths beside ``targets``, renamed onto them only if the block succeeds.
-
-    Each temporary file keeps its target's suffix, because writers such as matplotlib and
-    Pillow pick the file format from it. On any exception every temporary file is removed and
-    no target is touched, so a failed command never leaves a partial file.
-    """
-    temps: list[str] = []
-    try:
-        for target in targets:
-            target.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix,
-                                       dir=target.parent)
-            os.close(fd)
-            temps.append(tmp)
-        yield [Path(t) for t in temps]
-        for tmp, target in zip(temps, targets):
-            os.chmod(tmp, 0o644)  # mkstemp makes 0600; results are meant to be shared
-            os.replace(tmp, target)
-    finally:
-        for tmp in temps:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
 
 
 def write(result: Result, out_dir: Path, split: bool = False) -> list[Path]:
@@ -104,7 +75,7 @@ def write(result: Result, out_dir: Path, split: bool = False) -> list[Path]:
     list of Path
         The files written.
     """
-    from .plots import save_figure
+    from ..outputs.plots import save_figure
 
     out_dir = Path(out_dir)
     targets = [out_dir / f"{result.name}.csv", out_dir / f"{result.name}.png"]

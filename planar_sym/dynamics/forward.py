@@ -1,0 +1,84 @@
+"""Forward dynamics: integrate M(q) qdd + h(q, qd) = tau with error control.
+
+Methods:
+
+* ``"dopri5"`` (default): adaptive Dormand-Prince 5(4) written in C (planar_sym/dynamics/_integrate.c),
+  calling the compiled forward dynamics with no Python per step; steps land exactly on the
+  requested output times. For zero or constant torques.
+* any SciPy ``solve_ivp`` method (``"DOP853"``, ``"RK45"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``)
+  on the compiled ``qdd = M^-1 (tau - h)``; Radau/BDF/LSODA get the compiled Jacobian. A torque
+  that is a function of time always goes this way (DOP853 unless told otherwise).
+
+Closed chains are in ``planar_sym.dynamics.forward_closed``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ..errors import InputError, SimulationError
+from ..model.library import SingleCall
+from ..model.robot import Robot, as_samples
+from .integrate import SCIPY_METHODS, Simulation, Torque, dopri5, time_grid, torque_function
+
+
+def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torque = None,
+             t_eval=None, rtol: float = 1e-11, atol: float = 1e-12,
+             method: str = "dopri5", max_steps: int = 10_000_000) -> Simulation:
+    """Integrate a robot from (q0 rad, qd0 rad/s) over ``t_span`` (s) under ``torque`` (N*m).
+
+    ``torque``: None (zero), a constant (n,) vector, or a function of time returning (n,);
+    for a closed chain, torques of the actuated joints and ``q0`` the full coordinates.
+    Returns the state at ``t_eval`` (default: 1001 evenly spaced times), with energies.
+    """
+    if robot.is_closed_chain:
+        from .forward_closed import simulate_closed
+
+        return simulate_closed(robot, q0, qd0, t_span, torque=torque, t_eval=t_eval,
+                               rtol=rtol, atol=atol, method=method)
+    n = robot.n
+    x0 = np.concatenate([as_samples("q0", q0, n)[0], as_samples("qd0", qd0, n)[0]])
+    t = time_grid(t_span, t_eval)
+    tau_of = torque_function(torque, n)
+    if method == "dopri5" and not callable(torque):
+        fd = robot.library.address("forward_dynamics")
+        y, n_rhs = dopri5(robot, 0, fd, x0, t, tau_of(t[0]), rtol, atol, max_steps)
+        q, qd = y[:, :n].copy(), y[:, n:].copy()
+        kin, pot = robot.energy(q, qd)
+        return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
+                          rtol, atol, n_rhs)
+    method = "DOP853" if method == "dopri5" else method
+    if method not in SCIPY_METHODS:
+        raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
+    fd = SingleCall(robot.library.functions["forward_dynamics"], robot.p)
+    count, last_t = [0], [t[0]]
+
+    def rhs(tt, x):
+        count[0] += 1
+        last_t[0] = tt
+        (qdd,) = fd(x[:n], x[n:], tau_of(tt))
+        if not np.all(np.isfinite(qdd)):  # else SciPy shrinks its step for ever
+            raise SimulationError(f"{robot.name}: accelerations became {qdd.tolist()} at "
+                                  f"t = {tt:.6g} s (state {x.tolist()})")
+        return np.concatenate([x[n:], qdd])
+
+    jac = None
+    if method in ("Radau", "BDF", "LSODA"):
+        fj = SingleCall(robot.library.functions["forward_dynamics_jacobian"], robot.p)
+
+        def jac(tt, x):
+            dq, dqd = fj(x[:n], x[n:], tau_of(tt))
+            top = np.hstack([np.zeros((n, n)), np.eye(n)])
+            return np.vstack([top, np.hstack([dq.reshape(n, n).T, dqd.reshape(n, n).T])])
+
+    extra = {"jac": jac} if jac is not None else {}
+    sol = solve_ivp(rhs, (t[0], t[-1]), x0, method=method, t_eval=t, rtol=rtol, atol=atol,
+                    **extra)
+    if not sol.success:
+        raise SimulationError(f"{robot.name}: integration failed at t = {last_t[0]:.6g} s: "
+                              f"{sol.message}")
+    q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
+    kin, pot = robot.energy(q, qd)
+    taus = np.array([tau_of(tt) for tt in t])
+    return Simulation(t, q, qd, taus, kin, pot, method, rtol, atol, count[0])

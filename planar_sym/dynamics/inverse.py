@@ -1,0 +1,95 @@
+"""Inverse dynamics beyond one generated call: the actuation matrix of a closed chain and the
+split of the actuated torques into their inertial, velocity and gravity parts.
+
+Sign convention, stated once and tested (tests/test_closed_chain.py):
+
+.. code:: text
+
+    M(q) qdd + h(q, qd) = S^T tau + Phi_q(q)^T lambda,
+    Phi(q) = r(parent point) - r(child point)  at every cut joint,
+
+so ``lambda`` (N, world x and y) is the force the cut joint's child body exerts on its parent
+body; the child feels ``-lambda``. ``S`` selects the actuated coordinates; passive joints carry
+no torque.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import WorkspaceError
+from ..model.robot import COND_LIMIT, Robot
+from ..motion.closure import _when, partition
+
+
+def actuation_matrix(robot: Robot, q: np.ndarray, t=None) -> np.ndarray:
+    """``[S^T Phi_q^T]`` at each sample, shape (N, n, n); refuses a singular pose by time.
+
+    The matrix is singular exactly when the passive-joint block ``Phi_p`` is (its actuated
+    rows are identity rows), so that block's 1-norm condition number is the measure.
+    """
+    act, pas = partition(robot)
+    n_s, n = len(q), robot.n
+    jac = robot.constraint_jacobian(q).reshape(n_s, robot.n_constraints, n)
+    _report_singular(robot, np.linalg.cond(jac[:, :, pas], 1), t)
+    a = np.zeros((n_s, n, n))
+    a[:, act, np.arange(len(act))] = 1.0
+    a[:, :, len(act):] = jac.transpose(0, 2, 1)
+    return a
+
+
+def _report_singular(robot: Robot, cond: np.ndarray, t) -> None:
+    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise WorkspaceError(f"{robot.name}: singular pose at {_when(t, k)}: the passive-joint "
+                             f"constraint Jacobian Phi_p (which the actuation matrix "
+                             f"[S^T Phi_q^T] needs) has 1-norm condition number {cond[k]:.3g} "
+                             f"> {COND_LIMIT:g}")
+
+
+#: the parts of the torque split, in plotting order: name -> label in the plots
+SPLIT_PARTS = {"inertial": "M qdd", "velocity": "C qd", "gravity": "g"}
+
+
+def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
+    """The actuated torques split into inertial, velocity-dependent and gravity parts.
+
+    .. code:: text
+
+        tau = tau(M qdd) + tau(C qd) + tau(g)
+
+    For a tree every joint is actuated and the parts are the terms themselves. For a closed
+    chain the torques come from the linear solve ``[S^T Phi_q^T] [tau; lambda] = M qdd + h``,
+    so each term is pushed through the same matrix and the parts still add up to tau.
+
+    Parameters
+    ----------
+    robot : Robot
+    q, qd, qdd : ndarray, shape (N, n)
+        Every coordinate (rad, rad/s, rad/s^2), consistent with the loops for closed chains.
+    t : ndarray, shape (N,), optional
+        Times (s), only to name the sample of a singular pose.
+
+    Returns
+    -------
+    dict
+        ``SPLIT_PARTS`` keys -> ndarray (N, actuated), N*m.
+    """
+    q, qd, qdd = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (q, qd, qdd))
+    n_s, n = q.shape
+    mass = robot.mass_matrix(q).reshape(n_s, n, n)
+    h = robot.bias(q, qd).reshape(n_s, n)
+    g = robot.gravity(q).reshape(n_s, n)
+    terms = np.stack([(mass @ qdd[..., None])[..., 0], h - g, g], axis=-1)  # (N, n, 3)
+    if robot.is_closed_chain:
+        terms = _through_actuation(robot, q, terms, t)
+    return {k: terms[:, :, i] for i, k in enumerate(SPLIT_PARTS)}
+
+
+def _through_actuation(robot: Robot, q: np.ndarray, terms: np.ndarray, t) -> np.ndarray:
+    """Actuated-torque share of each column of ``terms`` (N, n, parts), as in closed_chain."""
+    a = actuation_matrix(robot, q, t)
+    n_act = len(robot.actuated)
+    # one solve for all parts: the multipliers' shares are dropped, torques kept
+    return np.linalg.solve(a, terms)[:, :n_act, :]

@@ -1,0 +1,104 @@
+"""Closed chains at the motion layer: passive joints from the loop constraints (Newton,
+continued sample to sample so the assembly mode is kept) and their exact rates.
+
+The loop-closure equations are ``Phi(q) = 0`` with ``Phi = r(parent point) - r(child point)``
+at every cut joint; rates follow exactly from ``Phi_q qd = 0`` and ``Phi_q qdd = gamma``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError, WorkspaceError
+from ..model.library import SingleCall
+from ..model.robot import COND_LIMIT, Robot, as_samples
+from .profiles import JointTrajectory
+
+#: Newton on Phi(q) = 0 stops below this residual (m); far under the 1e-9 m the tests demand.
+NEWTON_TOL_M = 1e-13
+NEWTON_MAX_ITER = 30
+
+
+def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
+    """Indices of the actuated and passive coordinates; checks the chain is fully actuated."""
+    act = np.array(robot.actuated, dtype=int)
+    pas = np.array([i for i in range(robot.n) if i not in robot.actuated], dtype=int)
+    if len(act) + robot.n_constraints != robot.n:
+        raise InputError(f"{robot.name}: {len(act)} actuated joints and {robot.n_constraints} "
+                         f"loop equations for {robot.n} coordinates: the chain is not exactly "
+                         "actuated, so torques are not unique")
+    return act, pas
+
+
+def _when(t, k: int) -> str:
+    return f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
+
+
+def _check_cond(robot: Robot, mats: np.ndarray, what: str, t) -> None:
+    cond = np.linalg.cond(mats)
+    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise WorkspaceError(f"{robot.name}: singular pose at {_when(t, k)}: the {what} has "
+                             f"condition number {cond[k]:.3g} > {COND_LIMIT:g}")
+
+
+def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
+    """Full coordinates from actuated ones, Newton on Phi(q) = 0 for the passive joints.
+
+    Sample by sample, each started from the previous solution: continuation keeps the
+    assembly mode (the first sample starts from ``q_guess``, default the drawn configuration).
+    """
+    act, pas = partition(robot)
+    q_act = as_samples("q_act", q_act, len(act), times=t)
+    phi_f = SingleCall(robot.library.functions["constraint"], robot.p)
+    jac_f = SingleCall(robot.library.functions["constraint_jacobian"], robot.p)
+    q = np.array(robot.q_drawn if q_guess is None else q_guess, dtype=float)
+    out = np.empty((len(q_act), robot.n))
+    m = robot.n_constraints
+    for k, qa in enumerate(q_act):
+        q[act] = qa
+        for _ in range(NEWTON_MAX_ITER):
+            (phi,) = phi_f(q)
+            if np.max(np.abs(phi)) < NEWTON_TOL_M:
+                break
+            (jac,) = jac_f(q)
+            jp = jac.reshape(robot.n, m).T[:, pas]
+            q[pas] -= np.linalg.solve(jp, phi)
+        else:
+            raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {_when(t, k)} "
+                                 f"for actuated angles {np.round(qa, 9).tolist()} rad "
+                                 f"(|Phi| = {np.max(np.abs(phi)):.3g} m): outside the workspace")
+        out[k] = q
+    return out
+
+
+def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray, np.ndarray]:
+    """Passive rates from the constraints, batched.
+
+    .. code:: text
+
+        Phi_p qd_p = -Phi_a qd_a,    Phi_p qdd_p = gamma - Phi_a qdd_a
+    """
+    act, pas = partition(robot)
+    q = as_samples("q", q, robot.n, times=t)
+    jac = robot.constraint_jacobian(q)
+    jac = jac if jac.ndim == 3 else jac[None]
+    _check_cond(robot, jac[:, :, pas], "passive-joint constraint Jacobian Phi_p", t)
+    qd = np.zeros_like(q)
+    qd[:, act] = as_samples("qd_act", qd_act, len(act), times=t)
+    qd[:, pas] = np.linalg.solve(jac[:, :, pas], -(jac[:, :, act] @ qd[:, act, None]))[..., 0]
+    gamma = robot.constraint_bias(q, qd).reshape(len(q), -1)
+    qdd = np.zeros_like(q)
+    qdd[:, act] = as_samples("qdd_act", qdd_act, len(act), times=t)
+    qdd[:, pas] = np.linalg.solve(jac[:, :, pas],
+                                  (gamma - (jac[:, :, act] @ qdd[:, act, None])[..., 0])[..., None]
+                                  )[..., 0]
+    return qd, qdd
+
+
+def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> JointTrajectory:
+    """Full joint motion of a closed chain from its actuated joints' motion."""
+    q = solve_passive(robot, q_act, q_guess, t)
+    qd, qdd = complete_rates(robot, q, qd_act, qdd_act, t)
+    return JointTrajectory(np.asarray(t), q, qd, qdd)
