@@ -49,11 +49,11 @@ def serial_states(n: int, size: int, seed: int = 1):
 
 
 def closed_states(robot, size: int):
-    from planar_sym.study.scenarios import SCENARIOS, joint_motion
+    from planar_sym.study.run import joint_motion, load_study
 
-    sc = SCENARIOS[f"{robot.name}_move_x"]
+    st = load_study(f"{robot.name}_move_x")
     base = min(size, 100_000)
-    jt, _ = joint_motion(sc, robot, np.linspace(0.0, sc.duration_s, base))
+    jt, _ = joint_motion(st, robot, t=np.linspace(0.0, st.motion.duration_s, base))
     reps = -(-size // base)
     return tuple(np.ascontiguousarray(np.tile(a, (reps, 1))[:size]) for a in (jt.q, jt.qd, jt.qdd))
 

@@ -54,7 +54,7 @@ def print_equations(robot: str, labels: tuple[str, ...]) -> None:
 
 def report(result: Result, plot_dir: Path | None) -> None:
     """Peak |torque| per joint (one parsable line each), the note, and the figure if asked."""
-    for key, value in result.peak("tau").items():
+    for key, value in result.peak_torques().items():
         print(f"{result.name}: peak |{key}| = {value:.12g} N*m")
     if result.note:
         print(f"{result.name}: {result.note}")

@@ -20,7 +20,7 @@ def main() -> None:
     # the passive joints appear in M and g like any other; Phi = 0 ties them to A and E
     print_equations("five_bar_type1", ("M11", "M12", "g1", "Phi1", "Phi2"))
     for name in ("five_bar_type1_move_x", "five_bar_type1_move_y"):
-        result = ps.run_scenario(name, args.samples)
+        result = ps.run_study(name, args.samples)
         report(result, args.plot)
         report_forces(result)
 

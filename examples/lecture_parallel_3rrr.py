@@ -22,7 +22,7 @@ def main() -> None:
     # and 3 are plain two-link arms (M44, M45), joined to the platform only through Phi = 0
     print_equations("parallel_3rrr", ("M33", "M44", "M45", "g4", "Phi1", "Phi2"))
     for name in ("parallel_3rrr_move_x", "parallel_3rrr_move_y"):
-        result = ps.run_scenario(name, args.samples)
+        result = ps.run_study(name, args.samples)
         report(result, args.plot)
         report_forces(result)
 

@@ -21,15 +21,15 @@ def main() -> None:
     print_equations("serial_2dof", ("M11", "M12", "M22", "alpha", "beta", "delta", "g1", "g2"))
 
     # S1: released from q1 = -60 deg at rest, no torque: where is it after 1 s?
-    swing = ps.run_scenario("serial_2dof_free_swing", args.samples)
-    q_end = [swing.columns["q1"][-1], swing.columns["q2"][-1]]
+    swing = ps.run_study("serial_2dof_free_swing", args.samples)
+    q_end = [swing.columns["q1_rad"][-1], swing.columns["q2_rad"][-1]]
     print(f"serial_2dof_free_swing: q(1 s) = ({np.degrees(q_end[0]):.6f}, "
           f"{np.degrees(q_end[1]):.6f}) deg")
     report(swing, args.plot)
 
     # S2 and S3: torques needed for a slow joint move and a straight-line tip move
     for name in ("serial_2dof_joint_move", "serial_2dof_cartesian_move"):
-        report(ps.run_scenario(name, args.samples), args.plot)
+        report(ps.run_study(name, args.samples), args.plot)
 
     # the same S3 motion with a 0.6 kg motor: a new parameter value, no re-derivation
     t = np.linspace(0.0, 5.0, args.samples or 201)

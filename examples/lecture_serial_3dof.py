@@ -18,9 +18,9 @@ def main() -> None:
     print(f"{arm.title}\ncoordinates {arm.coordinates}, task {arm.task_names}\n")
     print_equations("serial_3dof", ("M11", "M33", "g1", "g2", "g3"))
 
-    result = ps.run_scenario("serial_3dof_cartesian_move", args.samples)
+    result = ps.run_study("serial_3dof_cartesian_move", args.samples)
     report(result, args.plot)
-    q = np.column_stack([result.columns[f"q{i}"] for i in (1, 2, 3)])
+    q = np.column_stack([result.columns[f"q{i}_rad"] for i in (1, 2, 3)])
     # the tool keeps phi = q1 + q2 + q3 = pi/2 all along: the wrist makes up for the arm
     print(f"serial_3dof_cartesian_move: max |q1 + q2 + q3 - pi/2| = "
           f"{np.max(np.abs(q.sum(axis=1) - np.pi / 2)):.3g} rad")

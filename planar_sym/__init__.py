@@ -23,7 +23,6 @@ from .motion.profiles import Trajectory, cubic
 from .outputs.equations import Equations, equations
 
 __all__ = [
-    "SCENARIOS",
     "DescriptionError",
     "Equations",
     "InputError",
@@ -35,17 +34,25 @@ __all__ = [
     "WorkspaceError",
     "cubic",
     "equations",
+    "from_actuated",
     "inverse_kinematics",
     "load",
-    "run_scenario",
+    "load_study",
+    "plot",
+    "run_study",
     "simulate",
+    "studies",
     "validate",
+    "write_result",
 ]
 __version__ = "0.1.0"
 
 _LAZY = {"simulate": ("dynamics.forward", "simulate"),
          "inverse_kinematics": ("motion.ik", "inverse_kinematics"),
-         "run_scenario": ("study.scenarios", "run"), "SCENARIOS": ("study.scenarios", "SCENARIOS"),
+         "run_study": ("study.run", "run"), "load_study": ("study.run", "load_study"),
+         "studies": ("study.builtin", "names"), "plot": ("outputs.plots", "plot"),
+         "write_result": ("outputs.results", "write"),
+         "from_actuated": ("motion.closure", "from_actuated"),
          "validate": ("analysis.validate", "run_all")}
 
 

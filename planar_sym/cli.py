@@ -14,7 +14,7 @@ from .errors import PlanarSymError
 def parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog="planar-sym",
-        description="Dynamics of planar robots: the seed chapter's scenarios, compiled.")
+        description="Dynamics of planar robots: any robot, any move, compiled.")
     ap.add_argument("--quiet", action="store_true", help="print only errors")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):

@@ -97,3 +97,23 @@ def derived(tmp_path_factory):
         return done[toml]
 
     return get
+
+
+def seed_studies() -> dict:
+    """The built-in studies (the seed's scenarios), by name."""
+    from planar_sym.study.builtin import names
+    from planar_sym.study.run import load_study
+
+    return {n: load_study(n) for n in names()}
+
+
+def study_motion(name: str, t=None):
+    """(robot, task trajectory, joint trajectory) of a built-in inverse-dynamics study at times
+    ``t`` (default 201 evenly spaced samples), exactly as the study runs it."""
+    from planar_sym.study.run import joint_motion, load_study, profile_at, robot_of
+
+    st = load_study(name)
+    robot = robot_of(st)
+    t = np.linspace(0.0, st.motion.duration_s, 201) if t is None else np.asarray(t, float)
+    jt, _ = joint_motion(st, robot, t=t)
+    return robot, profile_at(st, robot, t), jt

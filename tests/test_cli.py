@@ -10,10 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import planar_sym.outputs.plots
+import planar_sym.outputs.results
 from planar_sym.cli import main
 from planar_sym.errors import PlanarSymError
-from planar_sym.study.scenarios import SCENARIOS, run
+from planar_sym.study.builtin import names
+from planar_sym.study.run import run
+
+SCENARIOS = names()
 
 ROOT = Path(__file__).resolve().parent.parent
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -42,7 +45,8 @@ def test_run_writes_csv_and_png(tmp_path, capsys):
     assert name in capsys.readouterr().out
     assert sorted(p.name for p in out.iterdir()) == [f"{name}.csv", f"{name}.png"]
     lines = (out / f"{name}.csv").read_text().splitlines()
-    assert lines[0] == "t,x_mm,y_mm,q1,q2,tau1,tau2"
+    assert lines[0] == ("t_s,x_mm,y_mm,q1_rad,q2_rad,qd1_rad_s,qd2_rad_s,qdd1_rad_s2,qdd2_rad_s2,"
+                        "tau1_n_m,tau2_n_m")
     assert len(lines) == 1 + 11
     table = np.loadtxt(lines[1:], delimiter=",")
     ref = run(name, 11)
@@ -59,7 +63,7 @@ def test_run_unknown_scenario_writes_nothing(tmp_path, capsys):
     code = main(["run", "serial_2dof_cartesian_move", "no_such_scenario", "--out", str(out)])
     err = capsys.readouterr().err
     assert code != 0
-    assert "no_such_scenario" in err and "unknown scenario" in err
+    assert "no_such_scenario" in err and "unknown study" in err
     assert not out.exists()  # every name is checked before anything runs
 
 
@@ -72,7 +76,7 @@ def test_run_bad_samples_writes_nothing(tmp_path, capsys):
 
 def test_run_without_names_fails(tmp_path, capsys):
     assert main(["run", "--out", str(tmp_path / "res")]) != 0
-    assert "scenario" in capsys.readouterr().err
+    assert "name at least one study" in capsys.readouterr().err
 
 
 def _failing_save(result, path):
@@ -83,7 +87,7 @@ def _failing_save(result, path):
 def test_run_failing_midway_leaves_no_files(tmp_path, capsys, monkeypatch):
     """The figure fails after the CSV text is written to its temporary file: neither the CSV
     nor the PNG nor any temporary file may remain."""
-    monkeypatch.setattr(planar_sym.outputs.plots, "save_figure", _failing_save)
+    monkeypatch.setattr(planar_sym.outputs.results, "save_figure", _failing_save)
     out = tmp_path / "res"
     code = main(["run", "five_bar_type1_move_x", "--out", str(out), "--samples", "11"])
     assert code != 0
@@ -95,7 +99,7 @@ def test_run_failing_midway_keeps_earlier_complete_files(tmp_path, capsys, monke
     """Second scenario fails (a non-package error, e.g. the disk): the first one's files stay
     complete, the second leaves nothing, no temporary files anywhere."""
     calls = []
-    real = planar_sym.outputs.plots.save_figure
+    real = planar_sym.outputs.results.save_figure
 
     def second_fails(result, path):
         calls.append(result.name)
@@ -104,7 +108,7 @@ def test_run_failing_midway_keeps_earlier_complete_files(tmp_path, capsys, monke
             raise OSError(28, "No space left on device")
         real(result, path)
 
-    monkeypatch.setattr(planar_sym.outputs.plots, "save_figure", second_fails)
+    monkeypatch.setattr(planar_sym.outputs.results, "save_figure", second_fails)
     out = tmp_path / "res"
     code = main(["--quiet", "run", "serial_2dof_joint_move", "serial_2dof_cartesian_move",
                  "--out", str(out), "--samples", "5"])
@@ -121,7 +125,7 @@ def test_run_overwrites_previous_results_atomically(tmp_path, monkeypatch):
     name = "serial_2dof_joint_move"
     assert main(["--quiet", "run", name, "--out", str(out), "--samples", "5"]) == 0
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    monkeypatch.setattr(planar_sym.outputs.plots, "save_figure", _failing_save)
+    monkeypatch.setattr(planar_sym.outputs.results, "save_figure", _failing_save)
     assert main(["--quiet", "run", name, "--out", str(out), "--samples", "7"]) != 0
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # old results untouched
 

@@ -31,6 +31,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import seed_studies, study_motion
 from pinocchio_model import pinocchio_model
 from pinocchio_model import xyz as _xyz
 
@@ -39,9 +40,8 @@ from planar_sym.model import description
 from planar_sym.model.description import GROUND
 from planar_sym.model.robot import load
 from planar_sym.motion import closure
-from planar_sym.motion.ik import inverse_kinematics
-from planar_sym.motion.profiles import cubic
-from planar_sym.study.scenarios import SCENARIOS, task_to_si
+
+SCENARIOS = seed_studies()
 
 CLOSED_ROBOTS = ("five_bar_type1", "five_bar_type2", "parallel_3rrr")
 CLOSED_SCENARIOS = tuple(n for n, s in SCENARIOS.items() if s.robot in CLOSED_ROBOTS)
@@ -123,13 +123,8 @@ _CACHE: dict = {}
 
 
 def scenario_motion(name: str, t=None):
-    """(robot, desc, t, target x (SI), joint trajectory) of a closed-chain scenario."""
-    sc = SCENARIOS[name]
-    robot = load(sc.robot)
-    x0, dx = task_to_si(robot, sc.x0), task_to_si(robot, sc.dx)
-    t = np.linspace(0.0, sc.duration_s, 201) if t is None else t
-    tr = cubic(x0, dx, sc.duration_s, t)
-    return robot, tr, inverse_kinematics(robot, tr)
+    """(robot, target trajectory (SI), joint trajectory) of a closed-chain seed study."""
+    return study_motion(name, t)
 
 
 def pin_tree(robot_name: str) -> tuple[description.Description, PinTree]:
@@ -145,7 +140,7 @@ def pin_tree(robot_name: str) -> tuple[description.Description, PinTree]:
 def test_power_balance(name):
     """sum tau_i qd_act_i = dE/dt of all bodies, dE/dt from the energy alone."""
     sc = SCENARIOS[name]
-    T, h = sc.duration_s, 1e-3
+    T, h = sc.motion.duration_s, 1e-3
     t = np.linspace(0.05, T - 0.05, 41)  # interior: t +- 2h stays inside [0, T]
     robot, _, jt = scenario_motion(name, t)
     tau, _ = robot.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd, t=t)
@@ -169,7 +164,7 @@ def test_power_balance(name):
 @pytest.mark.parametrize("name", CLOSED_SCENARIOS)
 def test_torques_by_virtual_work_pinocchio(name):
     sc = SCENARIOS[name]
-    robot, _, jt = scenario_motion(name, np.linspace(0.0, sc.duration_s, 41))
+    robot, _, jt = scenario_motion(name, np.linspace(0.0, sc.motion.duration_s, 41))
     _, tree = pin_tree(sc.robot)
     tau, lam = robot.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd, t=jt.t_s)
 
@@ -237,7 +232,7 @@ def _static_poses(robot_name):
     out = [load(robot_name).q_drawn]
     for name in CLOSED_SCENARIOS:
         if SCENARIOS[name].robot == robot_name:
-            _, _, jt = scenario_motion(name, np.array([0.7, SCENARIOS[name].duration_s]))
+            _, _, jt = scenario_motion(name, np.array([0.7, SCENARIOS[name].motion.duration_s]))
             out += list(jt.q)
     return out
 

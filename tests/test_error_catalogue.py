@@ -771,10 +771,12 @@ def torque_inf(ctx):
 
 # -- generated files and compiled libraries --------------------------------------------------------
 
-@bad(FILES, "a robot that was never derived: `ps.load(\"six_bar\")`", LibraryError,
-     r"no generated code for robot 'six_bar' \(looked in .*\): run `make derive`",
-     "no generated code for robot 'six_bar' (looked in planar_sym/generated, generated): "
-     "run `make derive`")
+@bad(FILES, "an unknown robot name: `ps.load(\"six_bar\")`", LibraryError,
+     r"unknown robot 'six_bar': not a built-in robot \(five_bar_type1, .*, serial_3dof\), nor a "
+     r"description file \(\.toml\) or a generated folder \(a path\)",
+     "unknown robot 'six_bar': not a built-in robot (five_bar_type1, five_bar_type2, "
+     "parallel_3rrr, serial_2dof, serial_3dof), nor a description file (.toml) or a generated "
+     "folder (a path)")
 def never_derived(ctx):
     ps.load("six_bar")
 
@@ -985,12 +987,13 @@ def _cli(ctx: Ctx, *args: str) -> None:
         raise CommandFailed(err.strip())
 
 
-@bad(CLI, "`planar-sym run no_such_scenario --out res`", CommandFailed,
-     r"^error: unknown scenario 'no_such_scenario'",
-     "error: unknown scenario 'no_such_scenario'; known: serial_2dof_free_swing, ...",
+@bad(CLI, "`planar-sym run no_such_study --out res`", CommandFailed,
+     r"^error: unknown study 'no_such_study': not a built-in study \(five_bar_type1_move_x, ",
+     "error: unknown study 'no_such_study': not a built-in study (five_bar_type1_move_x, ...) "
+     "nor a study file (.toml)",
      "tests/test_cli.py::test_run_unknown_scenario_writes_nothing")
-def cli_unknown_scenario(ctx):
-    _cli(ctx, "run", "no_such_scenario", "--out", str(ctx.tmp / "res"))
+def cli_unknown_study(ctx):
+    _cli(ctx, "run", "no_such_study", "--out", str(ctx.tmp / "res"))
     assert not (ctx.tmp / "res").exists()
 
 

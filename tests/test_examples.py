@@ -18,7 +18,7 @@ from planar_sym.motion.closure import from_actuated
 EXAMPLES = ROOT / "examples"
 LECTURES = sorted(p.name for p in EXAMPLES.glob("lecture_*.py"))
 SAMPLES = 21
-PEAK = re.compile(r"^(\w+): peak \|(tau\d)\| = (\S+) N\*m$", re.MULTILINE)
+PEAK = re.compile(r"^(\w+): peak \|(tau\d+)\| = (\S+) N\*m$", re.MULTILINE)
 
 
 def _run(script: str, *args: str, cwd, env=None) -> subprocess.CompletedProcess:
@@ -42,7 +42,7 @@ def test_lecture_runs_and_its_peak_torques_match_the_runtime(script, tmp_path):
     peaks = PEAK.findall(out)
     assert peaks, f"{script} printed no peak torque:\n{out}"
     for scenario, key, value in peaks:
-        ref = ps.run_scenario(scenario, SAMPLES).peak("tau")[key]
+        ref = ps.run_study(scenario, SAMPLES).peak_torques()[key]
         assert float(value) == pytest.approx(ref, rel=1e-11), (scenario, key)
     assert "Closed-form equations" in out and " = " in out
     assert list(tmp_path.iterdir()) == [], "wrote files without being asked"

@@ -15,9 +15,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ALL_ROBOTS, CLOSED, ROBOTS_DIR
+from conftest import ALL_ROBOTS, CLOSED, ROBOTS_DIR, seed_studies
 from PIL import Image
 
+import planar_sym as ps
 from planar_sym.cli import main
 from planar_sym.dynamics.inverse import SPLIT_PARTS
 from planar_sym.errors import PlanarSymError
@@ -26,7 +27,9 @@ from planar_sym.model.robot import load
 from planar_sym.model.units import factor
 from planar_sym.motion.closure import complete_rates
 from planar_sym.outputs.drawing import drawing_figure, geometry
-from planar_sym.study.scenarios import SCENARIOS, motion, run
+from planar_sym.study.run import motion, run
+
+SCENARIOS = seed_studies()
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -166,14 +169,14 @@ def test_animate_gif_has_every_frame(tmp_path, name, frames):
 def test_animation_motion_is_the_simulation_and_the_full_trajectory():
     robot, t, q = motion("serial_2dof_free_swing", 11)
     res = run("serial_2dof_free_swing", 11)
-    assert np.array_equal(t, res.columns["t"])
-    assert np.max(np.abs(q - np.column_stack([res.columns["q1"], res.columns["q2"]]))) < 1e-12
+    assert np.array_equal(t, res.columns["t_s"])
+    assert np.max(np.abs(q - np.column_stack([res.columns["q1_rad"], res.columns["q2_rad"]]))) < 1e-12
     robot, t, q = motion("five_bar_type1_move_x", 11)
     res = run("five_bar_type1_move_x", 11)
     assert q.shape == (11, 4)  # passive joints B and D too
     assert np.max(np.abs(robot.constraint(q))) < 1e-9
-    for k, i in enumerate(robot.actuated):
-        assert np.max(np.abs(q[:, i] - res.columns[f"q{k + 1}"])) < 1e-12
+    for i in range(robot.n):  # every coordinate is in the CSV now
+        assert np.max(np.abs(q[:, i] - res.columns[f"q{i + 1}_rad"])) < 1e-12
 
 
 def test_animate_mp4_needs_ffmpeg(tmp_path, capsys):
@@ -189,7 +192,7 @@ def test_animate_mp4_needs_ffmpeg(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["no_such_scenario"], "unknown scenario"),
+    (["no_such_scenario"], "unknown study"),
     (["serial_2dof_joint_move", "--frames", "1"], "frames"),
     (["serial_2dof_joint_move", "--fps", "0"], "fps"),
     (["serial_2dof_joint_move", "--out", "a.avi"], ".gif")])
@@ -228,7 +231,7 @@ def test_split_parts_sum_to_the_torques(name):
     res = run(name, 21)
     parts = [res.split[k] for k in SPLIT_PARTS]
     total = sum(parts)
-    taus = [k for k in res.columns if re.fullmatch(r"tau\d+", k)]
+    taus = [k for k in res.columns if re.fullmatch(r"tau\d+_n_m", k)]
     if taus:
         want = np.column_stack([res.columns[k] for k in taus])
     else:  # the free swing: tau = 0, the parts balance
@@ -263,10 +266,10 @@ def test_closed_chain_split_by_virtual_work(robot):
     name = {"five_bar_type1": "five_bar_type1_move_y", "five_bar_type2": "five_bar_type2_move_x",
             "parallel_3rrr": "parallel_3rrr_move_x"}[robot]
     from planar_sym.dynamics.inverse import torque_split
-    from planar_sym.study.scenarios import get, joint_motion
+    from planar_sym.study.run import joint_motion
 
-    r = load(robot)
-    jt, _ = joint_motion(get(name), r, np.linspace(0.0, get(name).duration_s, 9))
+    r, st = load(robot), SCENARIOS[name]
+    jt, _ = joint_motion(st, r, t=np.linspace(0.0, st.motion.duration_s, 9))
     parts = torque_split(r, jt.q, jt.qd, jt.qdd)
     n_s, n = jt.q.shape
     mass = r.mass_matrix(jt.q).reshape(n_s, n, n)
@@ -296,19 +299,20 @@ def test_run_split_writes_three_files(tmp_path):
 
 def test_result_plot_returns_figures():
     res = run("five_bar_type2_move_x", 11)
-    fig = res.plot()
-    assert [ax.get_ylabel() for ax in fig.axes] == ["torque tau1 (N*m)", "torque tau2 (N*m)"]
-    fig = res.plot(split=True)
+    fig = ps.plot(res)
+    assert [ax.get_ylabel() for ax in fig.axes] == ["torque tau1 (N*m)", "torque tau3 (N*m)"]
+    fig = ps.plot(res, split=True)
     assert len(fig.axes) == 2
     for k, ax in enumerate(fig.axes):
         lines = ax.get_lines()[:4]
-        assert [ln.get_label() for ln in lines] == [f"tau{k + 1} (total)", "M qdd", "C qd", "g"]
+        name = ("tau1", "tau3")[k]  # the actuated joints A = q1, E = q3
+        assert [ln.get_label() for ln in lines] == [f"{name} (total)", "M qdd", "C qd", "g"]
         ys = [ln.get_ydata() for ln in lines]
         assert np.max(np.abs(ys[1] + ys[2] + ys[3] - ys[0])) < 1e-12
     assert fig.axes[-1].get_xlabel() == "time t (s)"
     swing = run("serial_2dof_free_swing", 11)
-    assert swing.plot().axes[0].get_ylabel() == "joint angle q1 (deg)"
-    assert len(swing.plot(split=True).axes) == 2
+    assert ps.plot(swing).axes[0].get_ylabel() == "joint angle q1 (deg)"
+    assert len(ps.plot(swing, split=True).axes) == 2
 
 
 # -- demo --------------------------------------------------------------------------------
@@ -325,13 +329,13 @@ def test_demo_writes_everything_and_an_index(tmp_path, capsys):
         row = next(line for line in index.splitlines() if line.startswith(f"| `{name}` |"))
         for target in re.findall(r"\]\(([^)]+)\)", row):
             assert (out / target).is_file(), target
-        assert SCENARIOS[name].summary in row
+        assert SCENARIOS[name].title in row
         table = np.genfromtxt(out / f"{name}.csv", delimiter=",", names=True)
-        taus = [k for k in table.dtype.names if re.fullmatch(r"tau\d+", k)]
+        taus = [k for k in table.dtype.names if re.fullmatch(r"tau\d+_n_m", k)]
         found = dict(re.findall(r"(tau\d+) = ([-+0-9.e]+)", row))
-        assert sorted(found) == sorted(taus)
+        assert sorted(f"{k}_n_m" for k in found) == sorted(taus)
         for k in taus:
-            assert float(found[k]) == pytest.approx(np.max(np.abs(table[k])), rel=1e-5)
+            assert float(found[k[:-4]]) == pytest.approx(np.max(np.abs(table[k])), rel=1e-5)
         with Image.open(out / f"{name}.gif") as im:
             assert im.n_frames == 2
         assert png_size(out / f"{name}_split.png")[0] == 770
@@ -342,21 +346,21 @@ def test_demo_writes_everything_and_an_index(tmp_path, capsys):
 
 
 def test_demo_failing_midway_leaves_no_partial_file(tmp_path, monkeypatch, capsys):
-    from planar_sym.commands import animate
+    from planar_sym.commands import run as run_command
 
-    real, calls = animate.write_animation, []
+    real, calls = run_command.animate_study, []
 
-    def second_fails(name, path, **kw):
-        calls.append(name)
+    def second_fails(st, path, **kw):
+        calls.append(st.name)
         if len(calls) == 2:
             raise PlanarSymError("simulated failure in an animation")
-        return real(name, path, **kw)
+        return real(st, path, **kw)
 
-    monkeypatch.setattr(animate, "write_animation", second_fails)
+    monkeypatch.setattr(run_command, "animate_study", second_fails)
     out = tmp_path / "demo"
     assert main(["--quiet", "demo", "--out", str(out), "--samples", "5", "--frames", "2"]) == 2
     assert "simulated failure" in capsys.readouterr().err
-    first, second = list(SCENARIOS)[:2]
+    first, second = list(SCENARIOS)[:2]  # in name order, as demo runs them
     written = sorted(p.name for p in out.iterdir())
     assert written == sorted([f"{first}.csv", f"{first}.png", f"{first}_split.png",
                               f"{first}.gif", f"{second}.csv", f"{second}.png",

@@ -20,12 +20,13 @@ import itertools
 
 import numpy as np
 import pytest
+from conftest import seed_studies, study_motion
 
 from planar_sym.dynamics.forward import simulate
 from planar_sym.model.robot import load
-from planar_sym.motion.ik import inverse_kinematics
-from planar_sym.motion.profiles import cubic
-from planar_sym.study.scenarios import SCENARIOS, run, task_to_si
+from planar_sym.study.run import run
+
+SCENARIOS = seed_studies()
 
 SEGMENT_S = 0.5
 ROUND_TRIP_TOL_RAD = 1e-8  # measured <= 3e-10 rad (S4), ~1e-11 elsewhere
@@ -37,12 +38,11 @@ TASK_SCENARIOS = ("serial_2dof_cartesian_move", "serial_3dof_cartesian_move",
 
 
 def _setup(name):
-    sc = SCENARIOS[name]
-    robot = load(sc.robot)
-    x0, dx, T = task_to_si(robot, sc.x0), task_to_si(robot, sc.dx), sc.duration_s
+    T = SCENARIOS[name].motion.duration_s
+    robot = study_motion(name, [0.0])[0]
 
     def motion(t):
-        return inverse_kinematics(robot, cubic(x0, dx, T, np.clip(np.atleast_1d(t), 0.0, T)))
+        return study_motion(name, np.clip(np.atleast_1d(t), 0.0, T))[2]
 
     def torque(t: float) -> np.ndarray:
         jt = motion(t)
@@ -111,10 +111,10 @@ def energy_by_hand(q, qd) -> np.ndarray:
 def test_free_swing_energy():
     res = run("serial_2dof_free_swing", 1001)
     c = res.columns
-    q = np.column_stack([c["q1"], c["q2"]])
-    qd = np.column_stack([c["qd1"], c["qd2"]])
+    q = np.column_stack([c["q1_rad"], c["q2_rad"]])
+    qd = np.column_stack([c["qd1_rad_s"], c["qd2_rad_s"]])
     e, kin = energy_by_hand(q, qd)
-    assert c["t"][-1] == pytest.approx(1.0)
+    assert c["t_s"][-1] == pytest.approx(1.0)
     assert np.max(kin) > 0.01, "the arm did not swing"
     assert np.max(np.abs(c["energy_j"] - e)) < 1e-12 * np.max(np.abs(e))
     drift = float(np.max(np.abs(e - e[0])) / np.max(kin))

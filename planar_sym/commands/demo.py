@@ -1,4 +1,4 @@
-"""``planar-sym demo``: every scenario, animation and robot drawing, with an index README.md."""
+"""``planar-sym demo``: every built-in study, animation and robot drawing, with an index README.md."""
 
 from __future__ import annotations
 
@@ -10,11 +10,11 @@ from ..errors import InputError
 
 
 def register(sub) -> None:
-    p = sub.add_parser("demo", help="every scenario (CSV, plots, animation), every robot "
+    p = sub.add_parser("demo", help="every built-in study (CSV, plots, animation), every robot "
                                     "drawn, and DIR/README.md indexing them")
     p.add_argument("--out", type=Path, default=Path("results"), help="output folder")
     p.add_argument("--samples", type=int, default=None,
-                   help="samples per scenario (default 201 inverse, 1001 forward dynamics)")
+                   help="samples per study (default 201 inverse, 1001 forward dynamics)")
     p.add_argument("--frames", type=int, default=40, help="frames per animation (default 40)")
     p.add_argument("--fps", type=float, default=15.0, help="animation frames per second (default 15)")
     p.set_defaults(fn=run)
@@ -23,11 +23,13 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..files import atomic_files
     from ..model.description import builtin_robots
-    from ..study.result import write
-    from ..study.scenarios import SCENARIOS
-    from ..study.scenarios import run as run_scenario
-    from .animate import write_animation, writer_for
+    from ..outputs.animation import writer_for
+    from ..outputs.results import write
+    from ..study.builtin import names
+    from ..study.run import load_study
+    from ..study.run import run as run_study
     from .draw import save_drawing
+    from .run import animate_study
 
     if args.samples is not None and args.samples < 2:
         raise InputError(f"--samples must be an integer >= 2 (got {args.samples})")
@@ -35,15 +37,17 @@ def run(args) -> int:
         raise InputError(f"--frames must be an integer >= 2 (got {args.frames})")
     writer_for(Path("check.gif"), args.fps)  # a bad --fps fails before anything is written
     out, robots = Path(args.out), builtin_robots()
-    total = 2 * len(SCENARIOS) + len(robots) + 1
+    studies = [load_study(name) for name in names()]
+    total = 2 * len(studies) + len(robots) + 1
     progress = Progress(total, args.quiet)
     results = []
-    for name in SCENARIOS:
-        result = run_scenario(name, args.samples)
+    for st in studies:
+        name = st.name
+        result = run_study(st, args.samples)
         results.append(result)
         progress(f"{name}: {', '.join(p.name for p in write(result, out, split=True))}")
-        gif = write_animation(name, out / f"{name}.gif", frames=args.frames, fps=args.fps,
-                              dpi=80, figsize=(5.0, 4.2))
+        gif = animate_study(st, out / f"{name}.gif", frames=args.frames, fps=args.fps,
+                            dpi=80, figsize=(5.0, 4.2))
         progress(f"{name}: {gif.name} ({args.frames} frames)")
     for robot in robots:
         save_drawing(robot, out / f"{robot}.png")
@@ -72,22 +76,22 @@ class Progress:
 
 def peaks_text(result) -> str:
     """Peak |torque| per actuated joint (N*m), or why there is none."""
-    peaks = result.peak("tau")
+    peaks = result.peak_torques()
     if not peaks:
         return "none (forward dynamics, zero torque)"
     return ", ".join(f"{k} = {v:.6g}" for k, v in peaks.items())
 
 
 def index_text(results, robots: list[str]) -> str:
-    """``README.md`` of a demo folder: every scenario with its files, every robot drawn."""
+    """``README.md`` of a demo folder: every study with its files, every robot drawn."""
     from ..model.description import load as load_description
 
-    about = ("Made by `planar-sym demo`: every scenario of the seed chapter (CSV, the seed-like "
+    about = ("Made by `planar-sym demo`: every built-in study: the seed chapter's scenarios (CSV, the seed-like "
              "plot, the torque split into inertial `M qdd`, velocity `C qd` and gravity `g` "
              "parts, and an animation), and every robot in its drawn configuration. "
-             "Column units are in the CSV headers (t in s, angles in rad, torques in N*m).")
-    lines = ["# planar-sym demo results", "", about, "", "## Scenarios", "",
-             "| scenario | what | peak abs(torque) per joint (N*m) | files |",
+             "Column units are in the CSV headers (`t_s`, `q1_rad`, `qd1_rad_s`, `tau1_n_m`, ...).")
+    lines = ["# planar-sym demo results", "", about, "", "## Studies", "",
+             "| study | what | peak abs(torque) per joint (N*m) | files |",
              "|---|---|---|---|"]
     for r in results:
         files = " · ".join(f"[{label}]({r.name}{suffix})" for label, suffix in (

@@ -14,10 +14,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import DescriptionError
+from ..model.derived import DESCRIPTION_COPY
 from ..model.deriving import derive_modules
-
-#: the copy of the description written next to the generated files
-DESCRIPTION_COPY = "description.toml"
 
 
 def register(sub) -> None:

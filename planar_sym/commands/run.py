@@ -1,40 +1,91 @@
-"""``planar-sym run``: scenarios into CSV and PNG files."""
+"""``planar-sym run``: studies (built-in names or study files) into CSV, plots and animations."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import PlanarSymError
+from ..errors import InputError
 
 
 def register(sub) -> None:
-    p = sub.add_parser("run", help="run scenarios, write SCENARIO.csv and SCENARIO.png "
-                                   "(and SCENARIO_split.png with --split)")
-    p.add_argument("scenarios", nargs="*", help="scenario names (see `list`)")
-    p.add_argument("--all", action="store_true", help="run every scenario")
+    p = sub.add_parser("run", help="run studies: built-in names (see `list`) or study files; "
+                                   "writes STUDY.csv, STUDY.png (and more, as the study says)")
+    p.add_argument("studies", nargs="*", metavar="STUDY",
+                   help="built-in study name, or a study file (.toml)")
+    p.add_argument("--all", action="store_true", help="run every built-in study")
     p.add_argument("--out", type=Path, default=Path("results"), help="output folder")
     p.add_argument("--samples", type=int, default=None,
-                   help="evenly spaced samples (default 201 inverse, 1001 forward dynamics)")
+                   help="evenly spaced samples, overriding the study's (2 to 1000000)")
     p.add_argument("--split", action="store_true",
-                   help="also plot each torque split into M qdd, C qd and g (SCENARIO_split.png)")
+                   help="also plot each torque split into M qdd, C qd and g (STUDY_split.png)")
     p.set_defaults(fn=run)
 
 
 def run(args) -> int:
-    from ..study.result import write
-    from ..study.scenarios import SCENARIOS, get
-    from ..study.scenarios import run as run_scenario
+    from ..study.builtin import names
+    from ..study.run import load_study
 
-    names = list(SCENARIOS) if args.all else args.scenarios
-    if not names:
-        raise PlanarSymError("name at least one scenario, or --all (see `planar-sym list`)")
-    for name in names:
-        get(name)  # every name checked before anything runs
-    for name in names:
-        result = run_scenario(name, args.samples)
-        paths = write(result, args.out, split=args.split)
-        if not args.quiet:
-            peaks = ", ".join(f"{k} {v:.4g}" for k, v in result.peak("tau").items())
-            extra = f" (peak |tau| N*m: {peaks})" if peaks else f" ({result.note})"
-            print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}")
+    if args.all and args.studies:
+        raise InputError("name studies or give --all, not both")
+    refs = names() if args.all else args.studies
+    if not refs:
+        raise InputError("name at least one study, or --all (see `planar-sym list`)")
+    check_samples(args.samples)
+    check_out(args.out)
+    studies = [load_study(r) for r in refs]  # every file checked before anything runs
+    for st in studies:
+        report(write_study(st, args.out, args.samples, args.split), st.name, args.quiet)
     return 0
+
+
+def check_samples(samples: int | None) -> None:
+    from ..study.spec import MAX_SAMPLES
+
+    if samples is not None and not 2 <= samples <= MAX_SAMPLES:
+        raise InputError(f"--samples must be an integer from 2 to {MAX_SAMPLES} (got {samples})")
+
+
+def check_out(out: Path) -> None:
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out {out} is a file, not a folder")
+
+
+def write_study(st, out: Path, samples: int | None = None, split: bool = False):
+    """Run one study and write what its [outputs] asks for; returns (result, paths)."""
+    from ..outputs.results import write
+    from ..study.run import run as run_study
+
+    result = run_study(st, samples)
+    o = st.outputs
+    paths = write(result, out, split=split or o.split, csv=o.csv, plot=o.plot)
+    if o.animation:
+        paths.append(animate_study(st, out / f"{st.name}.{o.animation}", o.frames))
+    return result, paths
+
+
+def animate_study(st, path: Path, frames: int = 60, fps: float = 20.0, dpi: int = 80,
+                  figsize: tuple[float, float] = (5.6, 4.6)) -> Path:
+    """The study's mechanism moving, written to ``path`` (.gif or .mp4)."""
+    from ..model.description import load as load_description
+    from ..outputs.animation import check_frames, write_animation, writer_for
+    from ..study.run import motion
+
+    writer_for(Path(path), fps)  # a bad request fails before any work
+    check_frames(frames, dpi)
+    robot, t, q = motion(st, frames)
+    desc_file = robot.description_file
+    if desc_file is None:
+        raise InputError(f"{robot.name}: no description at hand to draw it (its generated "
+                         "folder has no description.toml)")
+    return write_animation(robot, load_description(desc_file), t, q, path,
+                           f"{st.name}: {st.title}", fps=fps, dpi=dpi, figsize=figsize)
+
+
+def report(done, name: str, quiet: bool) -> None:
+    result, paths = done
+    if quiet:
+        return
+    peaks = ", ".join(f"{k} {v:.4g}" for k, v in result.peak_torques().items())
+    extra = f" (peak |tau| N*m: {peaks})" if peaks else ""
+    solver = f" [IK: {result.solver}]" if result.solver else ""
+    print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}{solver}")

@@ -127,6 +127,17 @@ class Robot:
         return self.library.folder.resolve().parent in builtin_generated_dirs()
 
     @property
+    def description_file(self) -> Path | None:
+        """The description this robot was derived from, where it is at hand: a built-in one's
+        ``robots/<name>.toml``, or the ``description.toml`` copy in its generated folder."""
+        if self.is_builtin:
+            from .description import robots_dir
+
+            return robots_dir() / f"{self.name}.toml"
+        copy = self.library.folder / "description.toml"
+        return copy if copy.is_file() else None
+
+    @property
     def is_closed_chain(self) -> bool:
         return self.n_constraints > 0
 
@@ -269,25 +280,30 @@ _CACHE: dict[tuple[Path, int, int], Library] = {}
 
 def locate(robot: str | os.PathLike, generated: str | os.PathLike | None = None
            ) -> tuple[str, Path]:
-    """(name, generated folder) of a robot: a name, or a path to a generated folder.
+    """(name, generated folder) of a robot: a built-in name, a description file or a folder.
 
-    A plain name (no path separator) is looked up in ``generated`` if given, else on
-    ``PLANAR_SYM_GENERATED`` and among the built-in robots. Anything else (a ``Path``, or a string
-    with a separator) is a folder holding ``manifest.json``, e.g. the ``DIR/<name>`` that
-    ``planar-sym derive my_robot.toml --out DIR`` wrote.
+    * a path ending in ``.toml`` is a robot description: derived and compiled on first use into
+      the cache (needs SymPy the first time), keyed by the hash of the file and the derivation
+      (``model.derived``);
+    * a plain name (no path separator) is looked up in ``generated`` if given, else on
+      ``PLANAR_SYM_GENERATED`` and among the built-in robots;
+    * anything else (a ``Path``, or a string with a separator) is a folder holding
+      ``manifest.json``, e.g. the ``DIR/<name>`` that ``planar-sym derive my_robot.toml --out
+      DIR`` wrote.
     """
     text = os.fspath(robot)
+    if text.endswith(".toml"):
+        from .derived import derived_folder
+
+        folder = derived_folder(text)
+        return _manifest_name(folder), folder
     if isinstance(robot, os.PathLike) or os.sep in text or "/" in text:
         folder = Path(robot)
         if not (folder / "manifest.json").is_file():
             raise LibraryError(f"{folder} is not a generated robot folder (no manifest.json): "
                                "derive one with `planar-sym derive ROBOT.toml --out DIR`, then "
-                               "load DIR/<name>")
-        try:  # the name is the manifest's; Library re-reads and checks every file
-            name = json.loads((folder / "manifest.json").read_text())["robot"]
-        except (OSError, ValueError, KeyError, TypeError):
-            name = folder.name
-        return str(name), folder
+                               "load DIR/<name>, or name the description file ROBOT.toml")
+        return _manifest_name(folder), folder
     if generated is not None:
         folder = Path(generated) / text
         if not (folder / "manifest.json").is_file():
@@ -300,7 +316,20 @@ def locate(robot: str | os.PathLike, generated: str | os.PathLike | None = None
         raise LibraryError(f"no robot {text!r} among the built-in ones or on "
                            f"PLANAR_SYM_GENERATED; to load the folder ./{text}, pass a path: "
                            f"load('./{text}')")
+    from .description import builtin_robots
+
+    if not _is_known(text) and text not in builtin_robots():  # else: a stale checkout, below
+        raise LibraryError(f"unknown robot {text!r}: not a built-in robot "
+                           f"({', '.join(builtin_robots())}), nor a description file (.toml) "
+                           "or a generated folder (a path)")
     return text, find_generated(text)
+
+
+def _manifest_name(folder: Path) -> str:
+    try:  # the name is the manifest's; Library re-reads and checks every file
+        return str(json.loads((folder / "manifest.json").read_text())["robot"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return folder.name
 
 
 def _is_known(name: str) -> bool:
@@ -315,6 +344,7 @@ def load(robot: str | os.PathLike, generated: str | os.PathLike | None = None) -
     """A robot, compiled on first use (cached by input hash, loaded once per process).
 
     ``load("serial_2dof")``: built in (or on ``PLANAR_SYM_GENERATED``).
+    ``load("my_robot.toml")``: a description file, derived and compiled on first use (cached).
     ``load("out/four_bar")`` or ``load(Path("out") / "four_bar")``: a folder written by
     ``planar-sym derive four_bar.toml --out out``; ``load("four_bar", generated="out")`` is the
     same.

@@ -17,7 +17,8 @@ import re
 from dataclasses import dataclass
 
 from ..errors import InputError, LibraryError
-from ..model.library import find_generated, read_manifest
+from ..model.library import read_manifest
+from ..model.robot import locate
 
 #: output format -> generated file
 FILES = {"text": "equations.txt", "latex": "equations.tex", "markdown": "equations.md"}
@@ -72,9 +73,10 @@ class Equations:
         return display_math(self.markdown)
 
 
-def equations(robot: str) -> Equations:
-    """The equation report of a generated robot (built in, or on ``PLANAR_SYM_GENERATED``)."""
-    folder = find_generated(robot)
+def equations(robot) -> Equations:
+    """The equation report of a robot: a built-in name (or one on ``PLANAR_SYM_GENERATED``), a
+    generated folder, or a description file (derived on first use, as ``load`` does)."""
+    robot, folder = locate(robot)
     read_manifest(folder)  # every listed file matches its sha256
     out = {}
     for fmt, name in FILES.items():

@@ -58,16 +58,14 @@ def _finish(fig, axes, result: Result, title: str) -> None:
 def figure(result: Result):
     """A matplotlib Figure of a result (joint angles in deg, or torques in N*m, against t in s)."""
     if result.kind == "angles":
-        keys = [k for k in result.columns if k.startswith("q") and k[1:].isdigit()]
-        label, scale = "joint angle {} (deg)", 180 / np.pi
+        series, label, scale = result.angles(), "joint angle {} (deg)", 180 / np.pi
     else:
-        keys = [k for k in result.columns if k.startswith("tau") and k[3:].isdigit()]
-        label, scale = "torque {} (N*m)", 1.0
-    fig, axes = _axes(len(keys))
-    t = result.columns["t"]
-    for ax, key in zip(axes, keys):
-        ax.plot(t, result.columns[key] * scale, lw=1.6)
-        ax.set_ylabel(label.format(key))
+        series, label, scale = result.torques(), "torque {} (N*m)", 1.0
+    fig, axes = _axes(len(series))
+    t = result.columns["t_s"]
+    for ax, (key, values) in zip(axes, series.items()):
+        ax.plot(t, values * scale, lw=1.6)
+        ax.set_ylabel(label.format(key.split("_")[0]))
         ax.grid(True, alpha=0.4)
     _finish(fig, axes, result, result.summary)
     return fig
@@ -77,25 +75,28 @@ def split_figure(result: Result):
     """Each actuated torque (N*m) against t (s) with its parts M qdd, C qd and g.
 
     The parts are ``result.split`` (see ``dynamics.inverse.torque_split``); the total is the torque
-    column ``tau<k>`` where the result has one, else (forward dynamics, zero torque) their sum.
+    column ``tau<k>_n_m`` where the result has one, else (forward dynamics, zero torque) their
+    sum. k numbers the robot's coordinates: the actuated ones are ``result.actuated``.
     """
     parts = [result.split[k] for k in SPLIT_PARTS]
     n_act = parts[0].shape[1]
     fig, axes = _axes(n_act)
-    t = result.columns["t"]
+    t = result.columns["t_s"]
+    coords = list(result.actuated) or list(range(n_act))
     for k, ax in enumerate(axes):
-        total = result.columns.get(f"tau{k + 1}", sum(p[:, k] for p in parts))
-        ax.plot(t, total, color="black", lw=2.2, label=f"tau{k + 1} (total)")
+        name = f"tau{coords[k] + 1}"
+        total = result.columns.get(f"{name}_n_m", sum(p[:, k] for p in parts))
+        ax.plot(t, total, color="black", lw=2.2, label=f"{name} (total)")
         for part, label, colour in zip(parts, SPLIT_PARTS.values(), SPLIT_COLOURS):
             ax.plot(t, part[:, k], color=colour, lw=1.3, label=label)
         ax.axhline(0.0, color="grey", lw=0.6)
-        ax.set_ylabel(f"torque tau{k + 1} (N*m)")
+        ax.set_ylabel(f"torque {name} (N*m)")
         ax.grid(True, alpha=0.4)
     axes[0].legend(fontsize=7, ncol=4, loc="best")
     # cut-joint force columns mark a closed chain, whose parts went through the multiplier solve
     closed = any(k.startswith("fx_") for k in result.columns)
     how = "each part through [S^T Phi_q^T], as tau is" if closed else "tau = M qdd + C qd + g"
-    if not any(k.startswith("tau") for k in result.columns):
+    if not result.torques():
         how += "; tau = 0 here: the parts balance"
     _finish(fig, axes, result, f"torque split: inertial M qdd, velocity C qd, gravity g ({how})")
     return fig
@@ -105,3 +106,22 @@ def save_figure(result: Result, path: Path, split: bool = False) -> None:
     """Write the result's figure (or its torque split) as PNG to ``path``."""
     fig = split_figure(result) if split else figure(result)
     fig.savefig(path, dpi=110, format="png")
+
+
+def plot(result: Result, split: bool = False):
+    """A study result's matplotlib Figure (for notebooks): the seed-like plot, or the split.
+
+    Parameters
+    ----------
+    result : Result
+    split : bool
+        False: joint angles (deg) or torques (N*m) against time (s). True: each actuated
+        torque (N*m) with its parts ``M qdd``, ``C qd`` and ``g``.
+    """
+    if not split:
+        return figure(result)
+    if not result.split:
+        from ..errors import InputError
+
+        raise InputError(f"{result.name} has no torque split")
+    return split_figure(result)

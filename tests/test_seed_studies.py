@@ -1,4 +1,4 @@
-"""Every scenario of SCENARIOS.md (S1-S7) runs; its CSV columns are as specified; its start and
+"""Every scenario of SCENARIOS.md (S1-S7), as a built-in study, runs; its CSV columns are as specified; its start and
 end values match SCENARIOS.md; the joint and task columns agree through forward kinematics
 computed by hand from the seed's geometry; S2's first torque matches a hand calculation from
 Table 1.
@@ -12,7 +12,10 @@ import numpy as np
 import pytest
 
 from planar_sym.model import description
-from planar_sym.study.scenarios import SCENARIOS, run
+from planar_sym.study.builtin import names
+from planar_sym.study.run import load_study, run
+
+SCENARIOS = names()
 
 SAMPLES = 21
 
@@ -21,17 +24,21 @@ TASK_XYPHI = ["x_mm", "y_mm", "phi_rad"]
 
 
 def expected_columns(name: str) -> list[str]:
-    sc = SCENARIOS[name]
-    if sc.kind == "forward":
-        return ["t", "q1", "q2", "qd1", "qd2", "energy_j"]
-    if sc.robot in ("serial_2dof",):
-        return ["t", *TASK_XY, "q1", "q2", "tau1", "tau2"]
-    if sc.robot == "serial_3dof":
-        return ["t", *TASK_XYPHI, "q1", "q2", "q3", "tau1", "tau2", "tau3"]
-    if sc.robot.startswith("five_bar"):
-        return ["t", *TASK_XY, "q1", "q2", "tau1", "tau2", "fx_C_n", "fy_C_n"]
-    assert sc.robot == "parallel_3rrr"
-    return ["t", *TASK_XYPHI, "q1", "q2", "q3", "tau1", "tau2", "tau3",
+    st = load_study(name)
+    n = {"serial_2dof": 2, "serial_3dof": 3, "five_bar_type1": 4, "five_bar_type2": 4,
+         "parallel_3rrr": 7}[st.robot]
+    q = [f"q{k}_rad" for k in range(1, n + 1)]
+    qd = [f"qd{k}_rad_s" for k in range(1, n + 1)]
+    qdd = [f"qdd{k}_rad_s2" for k in range(1, n + 1)]
+    task = TASK_XYPHI if st.robot in ("serial_3dof", "parallel_3rrr") else TASK_XY
+    if st.kind == "forward":
+        return ["t_s", *task, *q, *qd, "energy_j"]
+    if st.robot.startswith("serial"):
+        return ["t_s", *task, *q, *qd, *qdd, *[f"tau{k}_n_m" for k in range(1, n + 1)]]
+    if st.robot.startswith("five_bar"):  # actuated A = q1, E = q3
+        return ["t_s", *task, *q, *qd, *qdd, "tau1_n_m", "tau3_n_m", "fx_C_n", "fy_C_n"]
+    assert st.robot == "parallel_3rrr"  # actuated A1 = q1, A2 = q4, A3 = q6
+    return ["t_s", *task, *q, *qd, *qdd, "tau1_n_m", "tau4_n_m", "tau6_n_m",
             "fx_B2_n", "fy_B2_n", "fx_B3_n", "fy_B3_n"]
 
 
@@ -45,7 +52,7 @@ def result(name):
 
 
 def test_scenario_list_is_the_seed_s1_to_s7():
-    assert set(SCENARIOS) == {
+    assert set(names()) == {
         "serial_2dof_free_swing", "serial_2dof_joint_move", "serial_2dof_cartesian_move",
         "serial_3dof_cartesian_move", "five_bar_type1_move_x", "five_bar_type1_move_y",
         "five_bar_type2_move_x", "five_bar_type2_move_y", "parallel_3rrr_move_x",
@@ -65,21 +72,23 @@ def test_runs_with_specified_columns(name):
     for i, c in enumerate(cols):
         assert np.all(np.isfinite(res.columns[c])), c
         assert np.array_equal(table[:, i], res.columns[c]), f"{c}: CSV round trip not exact"
-    sc = SCENARIOS[name]
-    assert np.array_equal(res.columns["t"], np.linspace(0.0, sc.duration_s, SAMPLES))
-    if sc.kind == "task":
-        x = np.column_stack([res.columns[c] for c in cols if c.endswith(("_mm", "_rad"))
-                             and not c.startswith(("fx", "fy"))])
-        assert np.allclose(x[0], sc.x0, rtol=0, atol=1e-9)
-        assert np.allclose(x[-1], np.add(sc.x0, sc.dx), rtol=0, atol=1e-9)
+    st = load_study(name)
+    duration = (st.motion or st.simulation).duration_s
+    assert np.array_equal(res.columns["t_s"], np.linspace(0.0, duration, SAMPLES))
+    if st.motion is not None and st.motion.space == "task":
+        x = np.column_stack([res.columns[c] for c in ("x_mm", "y_mm", "phi_rad")
+                             if c in res.columns])
+        assert np.allclose(x[0], st.motion.start, rtol=0, atol=1e-9)
+        assert np.allclose(x[-1], np.add(st.motion.start, st.motion.by), rtol=0, atol=1e-9)
     tau = [c for c in cols if c.startswith("tau")]
     if tau:  # inverse dynamics: torques are not all zero
         assert max(np.max(np.abs(res.columns[c])) for c in tau) > 1e-3
 
 
 def _q(name, k=None):
+    """The actuated joints' angles (every joint of a tree), rad."""
     res = result(name)
-    q = np.column_stack([res.columns[c] for c in res.columns if c[0] == "q" and c[1:].isdigit()])
+    q = np.column_stack(list(res.angles().values()))[:, list(res.actuated)]
     return q if k is None else q[k]
 
 
@@ -100,9 +109,9 @@ def test_start_and_end_poses():
 
 def test_s1_forward_columns():
     c = result("serial_2dof_free_swing").columns
-    assert np.allclose([c["qd1"][0], c["qd2"][0]], 0.0, atol=0)
+    assert np.allclose([c["qd1_rad_s"][0], c["qd2_rad_s"][0]], 0.0, atol=0)
     # released from rest below the horizontal: link 1 first falls (q1 decreases)
-    assert c["q1"][1] < c["q1"][0]
+    assert c["q1_rad"][1] < c["q1_rad"][0]
     assert np.ptp(c["energy_j"]) < 1e-9 * np.max(np.abs(c["energy_j"]))
 
 
@@ -142,7 +151,7 @@ def test_five_bar_task_columns_by_hand(name):
     """From the actuated angles alone: B = A + l2 (cos q1, sin q1), D = E + l5 (cos q2, sin q2),
     C on the circles |BC| = l3 and |DC| = l4 (the branch of the drawn pose), P rigid with B-C (on
     the extension of BC); lengths from the description's drawn points (SCENARIOS.md)."""
-    desc = description.load(SCENARIOS[name].robot)
+    desc = description.load(load_study(name).robot)
     b = desc.bodies
     world = {}
     for body, point, label in [("ground", "A", "A"), ("ground", "E", "E"),
@@ -192,7 +201,8 @@ def test_parallel_3rrr_angles_by_the_seed_formula(name):
         dy = py + np.sin(phi) * bi[0] + np.cos(phi) * bi[1] - a[1]
         e1, e2, e3 = -2 * l1 * dy, -2 * l1 * dx, dx**2 + dy**2 + l1**2 - l2**2
         th = 2 * np.arctan((-e1 - np.sqrt(e1**2 + e2**2 - e3**2)) / (e3 - e2))
-        diff = (c[f"q{i}"] - th + np.pi) % (2 * np.pi) - np.pi
+        coordinate = (1, 4, 6)[i - 1]  # A1, A2, A3
+        diff = (c[f"q{coordinate}_rad"] - th + np.pi) % (2 * np.pi) - np.pi
         assert np.max(np.abs(diff)) < 1e-9, f"leg {i}"
 
 
@@ -216,10 +226,10 @@ def test_s2_initial_torque_by_hand():
     static = np.array([g * (m1 * lc1 + (mm + m2) * a1 + m2 * lc2), g * m2 * lc2])
     tau0 = static + np.array([m11, m21]) * qdd1
     c = result("serial_2dof_joint_move").columns
-    got = np.array([c["tau1"][0], c["tau2"][0]])
+    got = np.array([c["tau1_n_m"][0], c["tau2_n_m"][0]])
     assert got == pytest.approx(tau0, rel=1e-12)
     # the inertial part is large enough to matter: the static torque alone is off
     assert abs(got[0] - static[0]) > 1e-3 * abs(static[0])
     # at t = T: qdd = -6 dq / T^2 at q = [90, 0] deg (arm straight up: no gravity torque)
-    got_end = np.array([c["tau1"][-1], c["tau2"][-1]])
+    got_end = np.array([c["tau1_n_m"][-1], c["tau2_n_m"][-1]])
     assert got_end == pytest.approx(-np.array([m11, m21]) * qdd1, rel=1e-9, abs=1e-15)

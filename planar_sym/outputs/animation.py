@@ -1,0 +1,99 @@
+"""A mechanism moving: any robot along any joint motion, as a GIF (or MP4 with ffmpeg)."""
+
+from __future__ import annotations
+
+import math
+import textwrap
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..files import atomic_files
+from ..model.description import Description
+from ..model.robot import Robot
+
+#: formats written, and the matplotlib writer of each
+WRITERS = {".gif": "pillow", ".mp4": "ffmpeg"}
+#: frames above this are refused: each frame is a full render (about 30 ms)
+MAX_FRAMES = 2000
+
+
+def writer_for(path: Path, fps: float):
+    """The matplotlib writer for ``path``'s suffix; refuses what cannot be written here."""
+    from matplotlib import animation
+
+    suffix = path.suffix.lower()
+    if suffix not in WRITERS:
+        raise InputError(f"--out must end in .gif or .mp4 (got {path.name!r})")
+    if not animation.writers.is_available(WRITERS[suffix]):
+        raise InputError(f"{path.name}: writing {suffix} needs ffmpeg, which is not installed "
+                         "(not on PATH); write a .gif instead, or install ffmpeg")
+    if not (fps > 0 and math.isfinite(fps)):
+        raise InputError(f"--fps must be a positive number (got {fps})")
+    return animation.writers[WRITERS[suffix]](fps=fps)
+
+
+def check_frames(frames: int, dpi: int) -> None:
+    if not isinstance(frames, int) or not 2 <= frames <= MAX_FRAMES:
+        raise InputError(f"--frames must be an integer from 2 to {MAX_FRAMES} (got {frames})")
+    if not isinstance(dpi, int) or not 10 <= dpi <= 600:
+        raise InputError(f"--dpi must be an integer from 10 to 600 (got {dpi})")
+
+
+def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, path: Path,
+                    title: str, fps: float = 20.0, dpi: int = 80,
+                    figsize: tuple[float, float] = (5.6, 4.6)) -> Path:
+    """Animate ``robot`` through the joint motion ``q`` into ``path``, whole or not at all.
+
+    Parameters
+    ----------
+    robot : Robot
+        Gives the body frames of each configuration (``Robot.frames``).
+    desc : Description
+        Gives the bodies' points and centres of gravity in their frames.
+    t : ndarray, shape (frames,)
+        Time of each frame (s).
+    q : ndarray, shape (frames, n)
+        Every coordinate (rad) at each frame, passive joints of closed chains included.
+    path : Path
+        ``.gif`` (Pillow) or ``.mp4`` (ffmpeg).
+    title : str
+        Shown above the mechanism.
+    fps : float
+        Playback frames per second.
+    dpi : int
+        Pixels per inch; the frame is ``figsize * dpi`` pixels.
+    """
+    from matplotlib.animation import FuncAnimation
+
+    from .drawing import MM, Scene, geometry
+    from .plots import new_figure, tight
+
+    path = Path(path)
+    writer = writer_for(path, fps)  # before any work: a bad request costs nothing
+    check_frames(len(t), dpi)
+    geo = geometry(desc, robot.body_names, robot.frames(q))
+    fig = new_figure(figsize)
+    ax = fig.add_subplot()
+    scene = Scene(ax, desc, geo, labels=False)
+    tip = geo.points[desc.task_point] * MM if desc.task_point in geo.points else None
+    if tip is not None:
+        ax.plot(tip[:, 0], tip[:, 1], ":", color="crimson", lw=0.8, alpha=0.6)  # the whole path
+    trace, = ax.plot([], [], "-", color="crimson", lw=1.6, zorder=8)
+    stamp = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace")
+    # enough decimals that every frame's stamp differs (GIF writers merge identical frames)
+    decimals = max(2, math.ceil(-math.log10(t[1] - t[0])))
+    ax.set_title("\n".join(textwrap.wrap(title, 75)), fontsize=7)
+    tight(fig)
+
+    def update(k: int) -> list:
+        if tip is not None:
+            trace.set_data(tip[:k + 1, 0], tip[:k + 1, 1])
+        stamp.set_text(f"t = {t[k]:.{decimals}f} s")
+        return [*scene.show(k), trace, stamp]
+
+    anim = FuncAnimation(fig, update, frames=len(t), interval=1000.0 / fps, blit=False)
+    with atomic_files([path]) as (tmp,):
+        anim.save(tmp, writer=writer, dpi=dpi)
+    return path

@@ -1,0 +1,1 @@
+"""Built-in study files (TOML): the seed chapter's scenarios; see planar_sym.study."""

@@ -1,0 +1,57 @@
+"""A study's parameter overrides, converted to SI: a number is in the robot description's own
+units (its ``[units]`` table), a string carries its unit (``"0.5 kg"``, ``"90.992 kg*mm^2"``).
+"""
+
+from __future__ import annotations
+
+import tomllib
+
+from ..errors import InputError
+from ..model.robot import Robot
+from ..model.units import factor
+
+#: SI unit of a parameter (as the manifest writes it) -> the quantity of the units table
+QUANTITY = {"kg": "mass", "kg*m^2": "inertia", "m": "length", "m/s^2": "acceleration",
+            "rad": "angle"}
+
+
+def description_units(robot: Robot) -> dict[str, str] | None:
+    """The ``[units]`` table of the robot's description, or None where no description is at hand
+    (a generated folder without its ``description.toml`` copy)."""
+    path = robot.description_file
+    if path is None:
+        return None
+    try:
+        units = tomllib.loads(path.read_text(encoding="utf-8")).get("units")
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return None
+    return units if isinstance(units, dict) else None
+
+
+def to_si(robot: Robot, overrides: dict[str, tuple[float, str | None]],
+          where: str = "parameters") -> dict[str, float]:
+    """SI values of ``{name: (value, unit or None)}``; every problem reported at once."""
+    known = {p.name: p for p in robot.parameter_list}
+    units = description_units(robot)
+    problems, out = [], {}
+    for name, (value, unit) in overrides.items():
+        if name not in known:
+            problems.append(f"{where}.{name}: not a parameter of {robot.name} (known: "
+                            f"{', '.join(known)})")
+            continue
+        quantity = QUANTITY.get(known[name].unit)
+        if unit is None:
+            if units is None:
+                problems.append(f"{where}.{name}: give the unit (e.g. \"{value} "
+                                f"{known[name].unit}\"): {robot.name} has no description here "
+                                "to say which units a bare number is in")
+                continue
+            unit = units.get(quantity, known[name].unit) if quantity else known[name].unit
+        try:
+            out[name] = value * (factor(quantity, unit) if quantity else 1.0)
+        except KeyError as exc:
+            problems.append(f"{where}.{name}: {exc.args[0]} for a {quantity} (got {unit!r})")
+    if problems:
+        raise InputError("; ".join(problems) if len(problems) == 1
+                         else "invalid parameters:\n  " + "\n  ".join(problems))
+    return out

@@ -1,0 +1,447 @@
+"""Study files: everything one run needs, as data (TOML), read and checked all at once.
+
+.. code:: toml
+
+    title = "5-bar Type I, P 30 mm diagonally in 1.5 s"
+    robot = "five_bar_type1"       # built-in name, a description file (.toml) or a generated folder
+    kind = "inverse"               # "inverse": torques along a motion; "forward": simulate
+
+    [units]                        # of this file's numbers; default m and rad (time is in s)
+    length = "mm"
+    angle = "deg"
+
+    [parameters]                   # overrides: a number in the description's units, or "0.5 kg"
+    m_L_Link1 = 0.5
+
+    [motion]                       # kind = "inverse"
+    space = "task"                 # "task" (x, y[, phi]) or "joint" (every joint of a tree,
+                                   # the actuated joints of a closed chain)
+    profile = "cubic"              # cubic | quintic | trapezoid | via | table
+    start = [60.852, 154.665]
+    by = [30.0, 30.0]              # or end = [...]
+    duration = 1.5                 # s
+    samples = 201
+
+    [simulation]                   # kind = "forward"
+    q0 = [-60.0, 0.0]              # every coordinate
+    duration = 1.0
+    torque = "zero"                # "zero", a constant [...] (N*m), or a CSV file of t_s, tau<k>_n_m
+
+    [outputs]
+    csv = true                     # and plot, split, animation ("gif" / "mp4"), frames
+
+Paths (a description file, a table) are relative to the study file. Every problem is reported
+at once, naming the file, the field and the value; nothing is run then.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from itertools import pairwise
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from ..model.units import factor
+
+PROFILES = ("cubic", "quintic", "trapezoid", "via", "table")
+SOLVERS = ("auto", "seed", "newton")
+METHODS = ("dopri5", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+ANIMATIONS = ("gif", "mp4")
+#: bounds that keep a typo from asking for a huge or empty run
+MAX_SAMPLES = 1_000_000
+MAX_DURATION_S = 1e6
+MAX_FRAMES = 2000
+
+_TOP = {"title", "robot", "kind", "units", "parameters", "motion", "simulation", "outputs", "notes"}
+_UNITS = {"length", "angle"}
+_MOTION = {"space", "profile", "start", "by", "end", "duration", "samples", "v_max", "a_max",
+           "times", "points", "file", "ik", "start_pose"}
+_SIMULATION = {"q0", "qd0", "duration", "samples", "torque", "method", "rtol", "atol"}
+_OUTPUTS = {"csv", "plot", "split", "animation", "frames"}
+
+
+class StudyError(InputError):
+    """A study file with problems; ``problems`` lists every one, each naming its field."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = list(problems)
+        super().__init__("invalid study:\n  " + "\n  ".join(self.problems))
+
+
+@dataclass(frozen=True)
+class Motion:
+    """The move of an inverse-dynamics study, in the file's units (converted when run)."""
+
+    space: str
+    profile: str
+    start: tuple[float, ...] = ()
+    by: tuple[float, ...] | None = None
+    end: tuple[float, ...] | None = None
+    duration_s: float | None = None
+    samples: int = 201
+    v_max: tuple[float, ...] | None = None
+    a_max: tuple[float, ...] | None = None
+    times_s: tuple[float, ...] | None = None
+    points: tuple[tuple[float, ...], ...] | None = None
+    table: Path | None = None
+    ik: str = "auto"
+    start_pose: tuple[float, ...] | None = None
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """The run of a forward-dynamics study, in the file's units."""
+
+    q0: tuple[float, ...]
+    duration_s: float
+    qd0: tuple[float, ...] | None = None
+    samples: int = 1001
+    torque: None | tuple[float, ...] | Path = None
+    method: str = "dopri5"
+    rtol: float = 1e-11
+    atol: float = 1e-12
+
+
+@dataclass(frozen=True)
+class Outputs:
+    csv: bool = True
+    plot: bool = True
+    split: bool = False
+    animation: str | None = None
+    frames: int = 60
+
+
+@dataclass(frozen=True)
+class Study:
+    """One study: a robot, its parameter overrides, and a motion (or a simulation)."""
+
+    name: str
+    title: str
+    robot: str  # a built-in name, or an absolute path (description file or generated folder)
+    kind: str  # "inverse" or "forward"
+    length_unit: str = "m"
+    angle_unit: str = "rad"
+    parameters: dict[str, tuple[float, str | None]] = field(default_factory=dict)
+    motion: Motion | None = None
+    simulation: Simulation | None = None
+    outputs: Outputs = Outputs()
+    path: Path | None = None
+
+    @property
+    def length_si(self) -> float:
+        return factor("length", self.length_unit)
+
+    @property
+    def angle_si(self) -> float:
+        return factor("angle", self.angle_unit)
+
+
+def load(path: str | Path) -> Study:
+    """Read and check a study file; raises StudyError listing every problem."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise StudyError([f"{path}: cannot read ({exc.strerror})"]) from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise StudyError([f"{path}: not valid TOML: {exc}"]) from None
+    return parse(data, path.stem, path)
+
+
+def parse(data: dict, name: str, path: Path | None = None) -> Study:
+    """A Study from a TOML table (``path`` names the file in messages and anchors paths)."""
+    c = _Checker(path)
+    c.keys(data, _TOP, "")
+    robot = c.string(data, "robot", "robot")
+    kind = c.choice(data, "kind", "kind", ("inverse", "forward"))
+    units = c.table(data, "units")
+    c.keys(units, _UNITS, "units.")
+    length = c.unit(units, "length", "m")
+    angle = c.unit(units, "angle", "rad")
+    params = c.parameters(c.table(data, "parameters"))
+    motion = sim = None
+    if kind == "inverse":
+        motion = c.motion(c.table(data, "motion", required=True))
+        if "simulation" in data:
+            c.err("simulation", "only for kind = \"forward\" (this study is \"inverse\")")
+    elif kind == "forward":
+        sim = c.simulation(c.table(data, "simulation", required=True))
+        if "motion" in data:
+            c.err("motion", "only for kind = \"inverse\" (this study is \"forward\")")
+    outputs = c.outputs(c.table(data, "outputs"))
+    title = data.get("title", name)
+    if not isinstance(title, str):
+        c.err("title", f"must be a string (got {title!r})")
+    c.done()
+    return Study(name, str(title), c.robot_ref(robot), kind, length, angle, params, motion, sim,
+                 outputs, path)
+
+
+class _Checker:
+    """Collects every problem of one study file before raising."""
+
+    def __init__(self, path: Path | None):
+        self.path, self.problems = path, []
+        self.base = path.parent if path is not None else Path.cwd()
+
+    def err(self, fld: str, msg: str) -> None:
+        where = f"{self.path}: " if self.path is not None else ""
+        self.problems.append(f"{where}{fld}: {msg}")
+
+    def done(self) -> None:
+        if self.problems:
+            raise StudyError(self.problems)
+
+    def keys(self, tbl: dict, known: set[str], prefix: str) -> None:
+        for key in sorted(set(tbl) - known):
+            self.err(f"{prefix}{key}", f"unknown key (known: {', '.join(sorted(known))})")
+
+    def table(self, data: dict, key: str, required: bool = False) -> dict:
+        v = data.get(key)
+        if v is None:
+            if required:
+                self.err(key, f"missing table [{key}]")
+            return {}
+        if not isinstance(v, dict):
+            self.err(key, f"must be a table [{key}] (got {v!r})")
+            return {}
+        return v
+
+    def string(self, tbl: dict, key: str, fld: str, default: str | None = None) -> str | None:
+        v = tbl.get(key, default)
+        if v is None:
+            self.err(fld, "missing")
+        elif not isinstance(v, str) or not v:
+            self.err(fld, f"must be a non-empty string (got {v!r})")
+        else:
+            return v
+        return None
+
+    def choice(self, tbl: dict, key: str, fld: str, options, default: str | None = None):
+        v = self.string(tbl, key, fld, default)
+        if v is not None and v not in options:
+            self.err(fld, f"must be one of {', '.join(options)} (got {v!r})")
+            return None
+        return v
+
+    def unit(self, tbl: dict, quantity: str, default: str) -> str:
+        v = tbl.get(quantity, default)
+        try:
+            factor(quantity, v if isinstance(v, str) else repr(v))
+        except KeyError as exc:
+            self.err(f"units.{quantity}", f"{exc.args[0]} (got {v!r})")
+            return default
+        return v
+
+    def number(self, tbl: dict, key: str, fld: str, *, positive: bool = False,
+               limit: float | None = None, default: float | None = None) -> float | None:
+        v = tbl.get(key, default)
+        if v is None:
+            self.err(fld, "missing")
+            return None
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not _finite(v):
+            self.err(fld, f"must be a finite number (got {v!r:.60})")
+            return None
+        if positive and not v > 0:
+            self.err(fld, f"must be > 0 (got {v!r})")
+            return None
+        if limit is not None and v > limit:
+            self.err(fld, f"must be at most {limit:g} (got {v!r})")
+            return None
+        return float(v)
+
+    def integer(self, tbl: dict, key: str, fld: str, default: int, low: int, high: int) -> int:
+        v = tbl.get(key, default)
+        if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
+            self.err(fld, f"must be an integer from {low} to {high} (got {v!r})")
+            return default
+        return v
+
+    def flag(self, tbl: dict, key: str, fld: str, default: bool) -> bool:
+        v = tbl.get(key, default)
+        if not isinstance(v, bool):
+            self.err(fld, f"must be true or false (got {v!r})")
+            return default
+        return v
+
+    def vector(self, tbl: dict, key: str, fld: str, required: bool = False
+               ) -> tuple[float, ...] | None:
+        v = tbl.get(key)
+        if v is None:
+            if required:
+                self.err(fld, "missing")
+            return None
+        if (not isinstance(v, list) or not v
+                or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)):
+            self.err(fld, f"must be a list of numbers (got {v!r:.80})")
+            return None
+        if not all(_finite(x) for x in v):
+            self.err(fld, f"must be finite (got {v!r:.80})")
+            return None
+        return tuple(float(x) for x in v)
+
+    def file(self, value, fld: str) -> Path | None:
+        if not isinstance(value, str) or not value:
+            self.err(fld, f"must name a file (got {value!r})")
+            return None
+        path = (self.base / value).resolve()
+        if not path.is_file():
+            self.err(fld, f"no such file {value!r} (looked for {path})")
+            return None
+        return path
+
+    def robot_ref(self, robot: str | None) -> str:
+        """A built-in name stays a name; a path is made absolute against the study file."""
+        if robot is None or ("/" not in robot and not robot.endswith(".toml")):
+            return robot or ""
+        return str((self.base / robot).resolve())
+
+    def parameters(self, tbl: dict) -> dict[str, tuple[float, str | None]]:
+        out = {}
+        for name, v in tbl.items():
+            fld = f"parameters.{name}"
+            if isinstance(v, str):
+                value, _, unit = v.strip().partition(" ")
+                try:
+                    number = float(value)
+                except ValueError:
+                    self.err(fld, f"must be a number, or a number and a unit such as "
+                                  f"\"0.5 kg\" (got {v!r})")
+                    continue
+                out[name] = (number, unit.strip() or None)
+            elif isinstance(v, (int, float)) and not isinstance(v, bool):
+                out[name] = (float(v), None)
+            else:
+                self.err(fld, f"must be a number, or a number and a unit such as \"0.5 kg\" "
+                              f"(got {v!r})")
+                continue
+            if not _finite(out[name][0]):
+                self.err(fld, f"must be finite (got {v!r})")
+                del out[name]
+        return out
+
+    def motion(self, m: dict) -> Motion | None:
+        self.keys(m, _MOTION, "motion.")
+        space = self.choice(m, "space", "motion.space", ("task", "joint"))
+        profile = self.choice(m, "profile", "motion.profile", PROFILES, "cubic")
+        ik = self.choice(m, "ik", "motion.ik", SOLVERS, "auto")
+        samples = self.integer(m, "samples", "motion.samples", 201, 2, MAX_SAMPLES)
+        start_pose = self.vector(m, "start_pose", "motion.start_pose")
+        if space == "joint" and "ik" in m:
+            self.err("motion.ik", "only for space = \"task\" (a joint-space motion needs no "
+                                  "inverse kinematics)")
+        kw: dict = {}
+        shape = profile or ("via" if "points" in m else "table" if "file" in m else "cubic")
+        if shape in ("cubic", "quintic", "trapezoid"):  # (an unknown profile: checked as cubic)
+            kw["start"] = self.vector(m, "start", "motion.start", required=True) or ()
+            by, end = self.vector(m, "by", "motion.by"), self.vector(m, "end", "motion.end")
+            if (by is None) == (end is None) and "by" not in m and "end" not in m:
+                self.err("motion", "give the displacement `by = [...]` or the end `end = [...]`")
+            elif "by" in m and "end" in m:
+                self.err("motion", "give `by` or `end`, not both")
+            for key, vec in (("by", by), ("end", end)):
+                if vec is not None and kw["start"] and len(vec) != len(kw["start"]):
+                    self.err(f"motion.{key}", f"must have {len(kw['start'])} values like "
+                                              f"motion.start (got {len(vec)})")
+            kw.update(by=by, end=end)
+            if shape == "trapezoid":
+                kw["v_max"] = self.vector(m, "v_max", "motion.v_max", required=True)
+                kw["a_max"] = self.vector(m, "a_max", "motion.a_max", required=True)
+                for key in ("v_max", "a_max"):
+                    if kw[key] is not None and min(kw[key]) <= 0:
+                        self.err(f"motion.{key}", f"must be > 0 (got {list(kw[key])})")
+                if "duration" in m:
+                    kw["duration_s"] = self.number(m, "duration", "motion.duration",
+                                                   positive=True, limit=MAX_DURATION_S)
+            else:
+                kw["duration_s"] = self.number(m, "duration", "motion.duration", positive=True,
+                                               limit=MAX_DURATION_S)
+        elif shape == "via":
+            kw.update(self._via(m))
+        elif shape == "table":
+            if "file" not in m:
+                self.err("motion.file", "missing: a CSV of t_s and the coordinates")
+            else:
+                kw["table"] = self.file(m["file"], "motion.file")
+        if shape != "table" and "file" in m:
+            self.err("motion.file", "only for profile = \"table\"")
+        if None in (space, profile, ik):
+            return None
+        return Motion(space, profile, samples=samples, ik=ik, start_pose=start_pose, **kw)
+
+    def _via(self, m: dict) -> dict:
+        times = self.vector(m, "times", "motion.times", required=True)
+        raw = m.get("points")
+        points = None
+        if not isinstance(raw, list) or not raw or not all(isinstance(p, list) for p in raw):
+            self.err("motion.points", f"must be a list of points [[...], [...]] (got {raw!r:.80})")
+        else:
+            rows = [self.vector({"p": p}, "p", f"motion.points[{i}]") for i, p in enumerate(raw)]
+            if all(r is not None for r in rows):
+                if len({len(r) for r in rows}) != 1:
+                    self.err("motion.points", "every point must have the same number of values")
+                else:
+                    points = tuple(rows)
+        if times is not None:
+            if any(b <= a for a, b in pairwise(times)) or times[0] != 0.0:
+                self.err("motion.times", f"must start at 0 and increase (got {list(times)})")
+            elif times[-1] > MAX_DURATION_S:
+                self.err("motion.times", f"must end by {MAX_DURATION_S:g} s")
+            if points is not None and len(points) != len(times):
+                self.err("motion.points", f"{len(points)} points for {len(times)} times")
+            if len(times) < 2:
+                self.err("motion.times", "needs at least 2 via points")
+        for key in ("start", "by", "end", "duration"):
+            if key in m:
+                self.err(f"motion.{key}", "not used by profile = \"via\" (the points and times "
+                                          "give the motion)")
+        return {"times_s": times, "points": points}
+
+    def simulation(self, s: dict) -> Simulation | None:
+        self.keys(s, _SIMULATION, "simulation.")
+        q0 = self.vector(s, "q0", "simulation.q0", required=True)
+        qd0 = self.vector(s, "qd0", "simulation.qd0")
+        duration = self.number(s, "duration", "simulation.duration", positive=True,
+                               limit=MAX_DURATION_S)
+        samples = self.integer(s, "samples", "simulation.samples", 1001, 2, MAX_SAMPLES)
+        method = self.choice(s, "method", "simulation.method", METHODS, "dopri5")
+        rtol = self.number(s, "rtol", "simulation.rtol", positive=True, default=1e-11)
+        atol = self.number(s, "atol", "simulation.atol", positive=True, default=1e-12)
+        raw = s.get("torque", "zero")
+        torque: None | tuple | Path = None
+        if isinstance(raw, list):
+            torque = self.vector(s, "torque", "simulation.torque")
+        elif isinstance(raw, dict) and set(raw) == {"file"}:
+            torque = self.file(raw["file"], "simulation.torque.file")
+        elif raw != "zero":
+            self.err("simulation.torque", f"must be \"zero\", a list of constant torques (N*m) "
+                                          f"or {{ file = \"torques.csv\" }} (got {raw!r})")
+        if q0 is not None and qd0 is not None and len(qd0) != len(q0):
+            self.err("simulation.qd0", f"must have {len(q0)} values like simulation.q0 "
+                                       f"(got {len(qd0)})")
+        if None in (q0, duration, method, rtol, atol):
+            return None
+        return Simulation(q0, duration, qd0, samples, torque, method, rtol, atol)
+
+    def outputs(self, o: dict) -> Outputs:
+        self.keys(o, _OUTPUTS, "outputs.")
+        anim = o.get("animation", False)
+        if anim is True:
+            anim = "gif"
+        if anim is not False and anim not in ANIMATIONS:
+            self.err("outputs.animation", f"must be false, true, \"gif\" or \"mp4\" (got {anim!r})")
+            anim = False
+        return Outputs(self.flag(o, "csv", "outputs.csv", True),
+                       self.flag(o, "plot", "outputs.plot", True),
+                       self.flag(o, "split", "outputs.split", False),
+                       anim or None,
+                       self.integer(o, "frames", "outputs.frames", 60, 2, MAX_FRAMES))
+
+
+def _finite(v) -> bool:
+    try:
+        return math.isfinite(float(v))
+    except (OverflowError, TypeError, ValueError):
+        return False

@@ -1,0 +1,95 @@
+"""The seed's scenarios as study files: the same numbers as the code they replaced, bit for bit,
+and each file runnable on its own when copied elsewhere.
+
+Reference: tests/data/seed_results_before_studies.npz, written by the scenario code (a Python
+list in planar_sym/scenarios.py) just before it was replaced by study files; its columns had
+no units in their names and, for closed chains, numbered only the actuated joints.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import planar_sym as ps
+from planar_sym.study import builtin
+from planar_sym.study.run import run
+
+REFERENCE = Path(__file__).resolve().parent / "data" / "seed_results_before_studies.npz"
+SEED_STUDIES = ("serial_2dof_free_swing", "serial_2dof_joint_move", "serial_2dof_cartesian_move",
+                "serial_3dof_cartesian_move", "five_bar_type1_move_x", "five_bar_type1_move_y",
+                "five_bar_type2_move_x", "five_bar_type2_move_y", "parallel_3rrr_move_x",
+                "parallel_3rrr_move_y")
+
+
+def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
+    """The reference's column for a new column name (None where the old CSV had none)."""
+    if new == "t_s":
+        return "t"
+    if m := re.fullmatch(r"(q|qd|tau)(\d+)_(rad|rad_s|n_m)", new):
+        kind, k = m.group(1), int(m.group(2)) - 1
+        if closed:  # the old CSV numbered the actuated joints only
+            if k not in actuated:
+                return None
+            k = actuated.index(k)
+        return f"{kind}{k + 1}"
+    if new.startswith("qdd"):
+        return None
+    return new  # x_mm, y_mm, phi_rad, fx_C_n, energy_j unchanged
+
+
+def test_the_built_in_studies_are_the_seed_scenarios():
+    assert tuple(builtin.names()) == tuple(sorted(SEED_STUDIES))
+
+
+@pytest.mark.parametrize("name", SEED_STUDIES)
+def test_study_gives_the_scenario_numbers_exactly(name):
+    ref = np.load(REFERENCE)
+    result = run(name)
+    robot = ps.load(result.robot)
+    compared = set()
+    for new, values in result.columns.items():
+        old = old_name(new, robot.actuated, robot.is_closed_chain)
+        if old is None or f"{name}/{old}" not in ref.files:
+            continue  # a column the old CSV did not have (task columns of a forward run)
+        reference = ref[f"{name}/{old}"]
+        scale = max(np.max(np.abs(reference)), 1e-300)
+        assert np.max(np.abs(values - reference)) / scale <= 1e-15, (new, old)
+        compared.add(old)
+    expected = {k.split("/", 1)[1] for k in ref.files if k.startswith(f"{name}/")
+                and "/split_" not in k}
+    assert compared == expected  # every old column is still there
+    for part, values in result.split.items():
+        np.testing.assert_array_equal(values, ref[f"{name}/split_{part}"])
+
+
+def test_a_study_file_copied_elsewhere_runs_on_its_own(tmp_path):
+    copy = tmp_path / "mine.toml"
+    shutil.copy(builtin.find("five_bar_type1_move_x"), copy)
+    a, b = run(copy), run("five_bar_type1_move_x")
+    assert a.name == "mine"
+    for k in b.columns:
+        np.testing.assert_array_equal(a.columns[k], b.columns[k])
+
+
+def test_inverse_csv_holds_rates_and_accelerations_with_units():
+    result = run("five_bar_type1_move_x")
+    header = result.csv_text().splitlines()[0].split(",")
+    assert header[:3] == ["t_s", "x_mm", "y_mm"]
+    for k in range(1, 5):
+        assert {f"q{k}_rad", f"qd{k}_rad_s", f"qdd{k}_rad_s2"} <= set(header)
+    assert [h for h in header if h.startswith("tau")] == ["tau1_n_m", "tau3_n_m"]  # A and E
+    assert header[-2:] == ["fx_C_n", "fy_C_n"]
+    # rates and accelerations are consistent with the positions: the corrected trapezoid rule
+    # q(k+1) - q(k) = h (qd(k) + qd(k+1)) / 2 + h^2 (qdd(k) - qdd(k+1)) / 12 + O(h^5)
+    t = result.columns["t_s"]
+    h = np.diff(t)
+    for k in range(1, 5):  # passive joints too
+        q, qd, qdd = (result.columns[f"{p}{k}_{u}"] for p, u in
+                      (("q", "rad"), ("qd", "rad_s"), ("qdd", "rad_s2")))
+        step = h * (qd[1:] + qd[:-1]) / 2 + h**2 * (qdd[:-1] - qdd[1:]) / 12
+        assert np.max(np.abs(np.diff(q) - step)) < 1e-9, k

@@ -1,0 +1,242 @@
+"""Studies as data: a study of one's own (another move, another robot, another parameter), the
+``move`` command, and every problem of a bad study file reported at once, naming the field."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import planar_sym as ps
+from planar_sym.cli import main
+from planar_sym.errors import InputError
+from planar_sym.motion.profiles import cubic
+from planar_sym.study import spec
+from planar_sym.study.run import run
+from planar_sym.study.toml import dumps
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
+
+def write(tmp_path: Path, text: str, name: str = "study.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+DIAGONAL = """
+title = "5-bar Type I, P 30 mm diagonally in 1.5 s"
+robot = "five_bar_type1"
+kind = "inverse"
+[units]
+length = "mm"
+[motion]
+space = "task"
+start = [60.852, 154.665]
+by = [30.0, 30.0]
+duration = 1.5
+samples = 151
+"""
+
+
+def test_a_new_move_of_a_built_in_robot(tmp_path):
+    """The Type I 5-bar 30 mm diagonally in 1.5 s: torques against the API route by hand."""
+    result = run(write(tmp_path, DIAGONAL))
+    robot = ps.load("five_bar_type1")
+    t = np.linspace(0.0, 1.5, 151)
+    joints = ps.inverse_kinematics(robot, cubic([0.060852, 0.154665], [0.03, 0.03], 1.5, t))
+    tau, lam = robot.closed_chain_inverse_dynamics(joints.q, joints.qd, joints.qdd)
+    assert np.max(np.abs(result.columns["tau1_n_m"] - tau[:, 0])) <= 1e-12 * np.max(np.abs(tau))
+    assert np.max(np.abs(result.columns["fy_C_n"] - lam[:, 1])) <= 1e-12 * np.max(np.abs(lam))
+    end = [result.columns["x_mm"][-1], result.columns["y_mm"][-1]]
+    assert end == pytest.approx([90.852, 184.665], abs=1e-9)
+
+
+def test_parameter_override_in_description_units_and_with_a_unit(tmp_path):
+    """m_motor2 = 0.6 (the description's kg) and "600 g" both give the heavier motor's torques,
+    which differ from S3's by dm a1 (a1 qdd1 + g cos q1) + ... on joint 1 (checked against
+    with_parameters, the SI route)."""
+    base = Path(ps.__file__).parent / "studies" / "serial_2dof_cartesian_move.toml"
+    text = base.read_text()
+    heavy = run(write(tmp_path, text + "\n[parameters]\nm_motor2 = 0.6\n", "heavy.toml"))
+    grams = run(write(tmp_path, text + "\n[parameters]\nm_motor2 = \"600 g\"\n", "grams.toml"))
+    arm = ps.load("serial_2dof").with_parameters(m_motor2=0.6)
+    q = np.column_stack([heavy.columns[f"q{k}_rad"] for k in (1, 2)])
+    qd = np.column_stack([heavy.columns[f"qd{k}_rad_s"] for k in (1, 2)])
+    qdd = np.column_stack([heavy.columns[f"qdd{k}_rad_s2"] for k in (1, 2)])
+    tau = arm.inverse_dynamics(q, qd, qdd)
+    np.testing.assert_allclose(heavy.columns["tau1_n_m"], tau[:, 0], rtol=1e-13, atol=1e-15)
+    np.testing.assert_array_equal(grams.columns["tau1_n_m"], heavy.columns["tau1_n_m"])
+    light = run("serial_2dof_cartesian_move")
+    a1, g = 0.1, 9.81
+    extra = (0.6 - 0.292) * a1 * (a1 * qdd[:, 0] + g * np.cos(q[:, 0]))
+    assert np.max(np.abs(heavy.columns["tau1_n_m"] - light.columns["tau1_n_m"] - extra)) < 1e-12
+
+
+def test_unknown_parameter_and_wrong_unit_are_named(tmp_path):
+    base = Path(ps.__file__).parent / "studies" / "serial_2dof_cartesian_move.toml"
+    path = write(tmp_path, base.read_text()
+                 + "\n[parameters]\nm_motr2 = 0.6\nm_link1 = \"71 mm\"\n")
+    with pytest.raises(InputError) as exc:
+        run(path)
+    text = str(exc.value)
+    assert "parameters.m_motr2: not a parameter of serial_2dof" in text
+    assert "parameters.m_link1" in text and "'mm'" in text
+
+
+def test_a_description_file_as_the_robot(tmp_path):
+    """robot = a description file (relative to the study): derived on first use; the crank
+    of the four-bar turned in joint space, the passive joints completed by the loop."""
+    study = write(tmp_path, f"""
+robot = "{EXAMPLES / 'four_bar.toml'}"
+kind = "inverse"
+[units]
+angle = "deg"
+[motion]
+space = "joint"
+profile = "quintic"
+start = [60.0]
+by = [90.0]
+duration = 1.0
+samples = 101
+""")
+    if not hasattr(__import__("planar_sym.motion", fromlist=["x"]), "smooth"):
+        pytest.skip("quintic profile not available")
+    result = run(study)
+    four = ps.load(EXAMPLES / "four_bar.toml")
+    q = np.column_stack([result.columns[f"q{k}_rad"] for k in range(1, four.n + 1)])
+    assert np.max(np.abs(four.constraint(q))) < 1e-12
+    assert result.columns["q1_rad"][-1] == pytest.approx(np.radians(150.0), abs=1e-12)
+
+
+def test_forward_study_with_constant_torque(tmp_path):
+    """Holding torque: the static gravity torque at q = (-60, 0) deg keeps the arm at rest."""
+    arm = ps.load("serial_2dof")
+    hold = arm.gravity(np.radians([-60.0, 0.0]))
+    path = write(tmp_path, f"""
+robot = "serial_2dof"
+kind = "forward"
+[units]
+angle = "deg"
+[simulation]
+q0 = [-60.0, 0.0]
+duration = 0.5
+samples = 11
+torque = [{float(hold[0])!r}, {float(hold[1])!r}]
+""")
+    result = run(path)
+    assert np.max(np.abs(result.columns["q1_rad"] - np.radians(-60.0))) < 1e-12
+
+
+def test_every_problem_of_a_study_at_once(tmp_path):
+    path = write(tmp_path, """
+robot = 3
+kind = "inverse"
+colour = "red"
+[units]
+length = "furlong"
+[motion]
+space = "sideways"
+profile = "zigzag"
+start = [1.0, "a"]
+duration = -2
+samples = 1
+""")
+    with pytest.raises(InputError) as exc:
+        spec.load(path)
+    problems = exc.value.problems
+    expected = ["colour: unknown key", "robot: must be a non-empty string (got 3)",
+                "units.length: unknown length unit 'furlong'", "motion.space: must be one of",
+                "motion.profile: must be one of", "motion.samples: must be an integer from 2",
+                "motion.start: must be a list of numbers",
+                "motion.duration: must be > 0 (got -2)"]
+    for e in expected:
+        assert any(e in p for p in problems), (e, problems)
+    assert all(p.startswith(f"{path}: ") for p in problems)
+    assert len(problems) == len(expected) + 1  # and: neither by nor end
+
+
+def test_forward_study_needs_a_simulation_table(tmp_path):
+    path = write(tmp_path, 'robot = "serial_2dof"\nkind = "forward"\n[motion]\nspace = "task"\n')
+    with pytest.raises(InputError) as exc:
+        spec.load(path)
+    assert any("simulation: missing table [simulation]" in p for p in exc.value.problems)
+    assert any("motion: only for kind = \"inverse\"" in p for p in exc.value.problems)
+
+
+def test_unknown_robot_and_missing_table_file(tmp_path):
+    path = write(tmp_path, 'robot = "no_such_robot"\nkind = "inverse"\n[motion]\nspace = "task"\n'
+                 'profile = "table"\nfile = "missing.csv"\n')
+    with pytest.raises(InputError, match="missing.csv"):
+        spec.load(path)
+    path = write(tmp_path, DIAGONAL.replace("five_bar_type1", "no_such_robot"))
+    with pytest.raises(ps.PlanarSymError, match="unknown robot 'no_such_robot'"):
+        run(path)
+
+
+def test_wrong_number_of_start_values(tmp_path):
+    path = write(tmp_path, DIAGONAL.replace("start = [60.852, 154.665]",
+                                            "start = [60.852, 154.665, 0.0]").replace(
+        "by = [30.0, 30.0]", "by = [30.0, 30.0, 0.0]"))
+    with pytest.raises(InputError, match=r"motion.start: five_bar_type1 needs 2 values, one per "
+                                         r"task coordinates \(x, y\) \(got 3\)"):
+        run(path)
+
+
+def test_move_command_equals_the_study_file(tmp_path, capsys):
+    out = tmp_path / "out"
+    saved = tmp_path / "saved.toml"
+    assert main(["move", "five_bar_type1", "--task", "--from", "60.852,154.665", "--by", "30,30",
+                 "--duration", "1.5", "--samples", "151", "--out", str(out),
+                 "--save-study", str(saved)]) == 0
+    printed = capsys.readouterr().out
+    assert "five_bar_type1_move: wrote" in printed and "peak |tau| N*m" in printed
+    table = np.genfromtxt(out / "five_bar_type1_move.csv", delimiter=",", names=True)
+    ref = run(write(tmp_path, DIAGONAL))
+    np.testing.assert_array_equal(table["tau3_n_m"], ref.columns["tau3_n_m"])
+    again = run(saved)  # the saved study is the same move
+    np.testing.assert_array_equal(again.columns["tau1_n_m"], ref.columns["tau1_n_m"])
+
+
+def test_move_with_a_parameter_and_negative_numbers(tmp_path):
+    out = tmp_path / "out"
+    assert main(["--quiet", "move", "serial_2dof", "--task", "--from", "100,100", "--by=-200,0",
+                 "--duration", "5", "--set", "m_motor2=600 g", "--out", str(out)]) == 0
+    table = np.genfromtxt(out / "serial_2dof_move.csv", delimiter=",", names=True)
+    arm = ps.load("serial_2dof").with_parameters(m_motor2=0.6)
+    q = np.column_stack([table["q1_rad"], table["q2_rad"]])
+    qd = np.column_stack([table["qd1_rad_s"], table["qd2_rad_s"]])
+    qdd = np.column_stack([table["qdd1_rad_s2"], table["qdd2_rad_s2"]])
+    np.testing.assert_allclose(table["tau1_n_m"], arm.inverse_dynamics(q, qd, qdd)[:, 0],
+                               rtol=1e-13, atol=1e-15)
+
+
+def test_move_refuses_bad_input_and_writes_nothing(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["move", "serial_2dof", "--task", "--from", "100,abc", "--by", "1,1",
+                 "--duration", "1", "--out", str(out)]) == 2
+    assert "--from must be comma-separated numbers" in capsys.readouterr().err
+    assert main(["move", "serial_2dof", "--task", "--from", "100,100", "--by", "1,1",
+                 "--duration", "0", "--out", str(out)]) == 2
+    assert "motion.duration: must be > 0" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_saved_study_toml_round_trips():
+    table = {"title": "a \"quoted\" title", "robot": "/x/y.toml", "kind": "inverse",
+             "units": {"length": "mm"}, "motion": {"start": [1.0, -2.5], "samples": 3,
+                                                    "split": False}}
+    assert tomllib.loads(dumps(table)) == table
+
+
+def test_list_shows_a_folder_of_ones_own(tmp_path, capsys):
+    (tmp_path / "four_bar.toml").write_text((EXAMPLES / "four_bar.toml").read_text())
+    write(tmp_path, DIAGONAL, "diagonal.toml")
+    assert main(["list", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "serial_2dof_free_swing" in out and "parallel_3rrr" in out
+    robots = out.split("robot descriptions")[1].split("generated robots")[0]
+    studies = out.split("studies (planar-sym run FILE)")[1]
+    assert "four_bar.toml" in robots and "diagonal.toml" in studies
