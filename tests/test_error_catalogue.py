@@ -500,8 +500,8 @@ def parameter_length(ctx):
 
 
 @bad(ARRAYS, "a NaN parameter: `with_parameters(m_link1=nan)`", InputError,
-     r"parameters\[0, 1\] is nan at sample 0: inputs must be finite",
-     "parameters[0, 1] is nan at sample 0: inputs must be finite")
+     r"serial_2dof: parameter m_link1 must be finite \(got nan\)",
+     "serial_2dof: parameter m_link1 must be finite (got nan)")
 def parameter_nan(ctx):
     _arm().with_parameters(m_link1=float("nan"))
 

@@ -240,3 +240,30 @@ def test_list_shows_a_folder_of_ones_own(tmp_path, capsys):
     robots = out.split("robot descriptions")[1].split("generated robots")[0]
     studies = out.split("studies (planar-sym run FILE)")[1]
     assert "four_bar.toml" in robots and "diagonal.toml" in studies
+
+
+@pytest.mark.parametrize("override, message", [
+    ({"m_link1": -0.1}, "parameter m_link1 must be > 0 kg (got -0.1)"),
+    ({"izz_link2": -1e-6}, "parameter izz_link2 must be >= 0 kg*m^2"),
+    ({"izz_link1": 89.395}, "radius of gyration of 3.548e+04 mm"),  # kg*mm^2 typed as kg*m^2
+    ({"izz_link1": 0.0}, "izz_link1 must be > 0 for a body with extent"),
+    ({"g": 9810.0}, "parameter g must be from 0 to 300 m/s^2 (got 9810)"),
+    ({"m_motor2": float("inf")}, "parameter m_motor2 must be finite (got inf)"),
+])
+def test_parameters_changed_at_run_time_are_checked(override, message):
+    with pytest.raises(InputError) as exc:
+        ps.load("serial_2dof").with_parameters(**override)
+    assert message in str(exc.value)
+
+
+def test_the_point_mass_motor_may_have_zero_inertia():
+    """motor2 is a point mass at the elbow (one point): izz = 0 is physical there."""
+    arm = ps.load("serial_2dof").with_parameters(izz_motor2=0.0, m_motor2=0.5)
+    assert arm.parameters["m_motor2"] == 0.5
+
+
+def test_study_parameter_slip_is_refused(tmp_path):
+    base = Path(ps.__file__).parent / "studies" / "serial_2dof_cartesian_move.toml"
+    path = write(tmp_path, base.read_text() + "\n[parameters]\nm_link1 = \"-71 g\"\n")
+    with pytest.raises(InputError, match=r"parameter m_link1 must be > 0 kg \(got -0.071\)"):
+        run(path)

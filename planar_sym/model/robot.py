@@ -81,6 +81,12 @@ class Robot:
             raise InputError(f"parameters must be a vector of {len(self.parameter_list)} values "
                              f"(got shape {np.shape(p)})")
         self.p = as_samples("parameters", p, len(self.parameter_list))[0].copy()
+        if parameters is not None:  # the manifest's own values passed the description's checks
+            from .parameters import problems
+
+            found = problems(self.parameters, self.body_names)
+            if found:
+                raise InputError(f"{self.name}: " + "; ".join(found))
         self._fns = self.library.functions
         #: exact: CasADi's per-sample functions compiled without fast math. Otherwise the
         #: hot methods below are C-level callers of the vectorised loops (same algorithm,
@@ -146,7 +152,12 @@ class Robot:
         return {par.name: float(v) for par, v in zip(self.parameter_list, self.p)}
 
     def with_parameters(self, **values: float) -> Robot:
-        """A copy with some parameters changed (SI units), no re-derivation needed."""
+        """A copy with some parameters changed (SI units), no re-derivation needed.
+
+        The new values pass the description's physical checks (``model.parameters``): positive
+        masses, plausible inertias, finite values, a plausible gravity; else InputError names
+        the parameter and the value.
+        """
         names = [par.name for par in self.parameter_list]
         p = self.p.copy()
         for k, v in values.items():
@@ -157,6 +168,8 @@ class Robot:
                 p[names.index(k)] = float(v)
             except (TypeError, ValueError, OverflowError):
                 raise InputError(f"parameter {k} must be a number (got {v!r})") from None
+            if not np.isfinite(p[names.index(k)]):
+                raise InputError(f"{self.name}: parameter {k} must be finite (got {v!r})")
         return Robot(self.name, self.library, p, exact=self.exact)
 
     # -- evaluation --------------------------------------------------------------------------

@@ -1,0 +1,71 @@
+"""Physical checks of a parameter vector changed at run time (``Robot.with_parameters``, a
+study's ``[parameters]``), the same rules the description's own values pass at derive time.
+
+Rules, with their figures:
+
+* every value finite; masses > 0; inertias >= 0 (a body with extent needs > 0);
+* a radius of gyration sqrt(izz / m) at most ``GYRATION_LIMIT`` (3) times the body's extent,
+  the largest distance from its centre of gravity to its points (as in the description; here
+  the points the equations use and the frame origin, which is always one of its points);
+* gravity magnitude ``g`` from 0 to ``G_LIMIT`` = 300 m/s^2 (the Sun's surface gives 274;
+  more is a unit slip such as mm/s^2 read as m/s^2).
+"""
+
+from __future__ import annotations
+
+import math
+
+from .description import CLOSURE_TOLERANCE_M, GYRATION_LIMIT
+
+#: largest plausible gravity magnitude (m/s^2): the Sun's surface gravity is 274
+G_LIMIT = 300.0
+
+
+def problems(values: dict[str, float], bodies: tuple[str, ...]) -> list[str]:
+    """Every physical problem of ``values`` (name -> SI value), one message each."""
+    out = []
+    for name, v in values.items():
+        if not math.isfinite(v):
+            out.append(f"parameter {name} must be finite (got {v!r})")
+    if out:
+        return out
+    g = values.get("g")
+    if g is not None and not 0.0 <= g <= G_LIMIT:
+        out.append(f"parameter g must be from 0 to {G_LIMIT:g} m/s^2 (got {g:.6g}); a unit slip?")
+    for body in bodies:
+        m, izz = values.get(f"m_{body}"), values.get(f"izz_{body}")
+        if m is not None and not m > 0:
+            out.append(f"parameter m_{body} must be > 0 kg (got {m:.6g})")
+            continue
+        if izz is not None and izz < 0:
+            out.append(f"parameter izz_{body} must be >= 0 kg*m^2 (got {izz:.6g})")
+            continue
+        if m is None or izz is None:
+            continue
+        extent = _extent(values, body, bodies)
+        radius = math.sqrt(izz / m)
+        if extent >= CLOSURE_TOLERANCE_M and izz == 0.0:
+            out.append(f"parameter izz_{body} must be > 0 for a body with extent (its points "
+                       f"reach {extent * 1e3:.4g} mm from its centre of gravity)")
+        elif extent >= CLOSURE_TOLERANCE_M and radius > GYRATION_LIMIT * extent:
+            out.append(f"parameter izz_{body} = {izz:.6g} kg*m^2 with m_{body} = {m:.6g} kg "
+                       f"gives a radius of gyration of {radius * 1e3:.4g} mm for a body whose "
+                       f"points reach {extent * 1e3:.4g} mm from its centre of gravity (more "
+                       f"than {GYRATION_LIMIT:g} times); a unit or decimal-point slip?")
+    return out
+
+
+def _extent(values: dict[str, float], body: str, bodies: tuple[str, ...]) -> float:
+    """Largest distance (m) from the body's centre of gravity to its known points."""
+    cg = (values.get(f"cgx_{body}", 0.0), values.get(f"cgy_{body}", 0.0))
+    points = {"": (0.0, 0.0)}  # the frame origin is one of the body's points
+    longer = [b for b in bodies if b != body and b.startswith(f"{body}_")]
+    for name, v in values.items():
+        for axis in "xy":
+            prefix = f"p{axis}_{body}_"
+            if name.startswith(prefix) and not any(name.startswith(f"p{axis}_{b}_")
+                                                   for b in longer):
+                point = name[len(prefix):]
+                xy = points.setdefault(point, (0.0, 0.0))
+                points[point] = (v, xy[1]) if axis == "x" else (xy[0], v)
+    return max(math.dist(cg, xy) for xy in points.values())
