@@ -97,13 +97,10 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
     if path is None:
         return Row(name, None, TOL_SYMBOLIC, "skipped",
                    "skipped: no description file found (pass --description)")
-    from ..commands.derive import derive_modules
     from ..model import description as descriptions
+    from ..model.deriving import symbolic_model
 
-    derive_modules()  # the build-time package, found in a source checkout too
-    from derive.model import build
-
-    model = build(descriptions.load(path))
+    model = symbolic_model(descriptions.load(path))
     if [str(s) for s in model.sym.p] != [p.name for p in robot.parameter_list]:
         return Row(name, math.inf, TOL_SYMBOLIC, "FAIL", f"{path}: parameter vector differs")
     states = dict(zip(("q", "qd", "qdd", "tau"), random_states(robot, samples, seed)))

@@ -36,3 +36,11 @@ def _from_source_checkout():
     import derive.__main__ as derive_main
 
     return derive_main
+
+
+def symbolic_model(desc):
+    """The SymPy model of a validated description (``derive.model.build``)."""
+    import importlib
+
+    package = derive_modules().__name__.rpartition(".")[0]
+    return importlib.import_module(f"{package}.model").build(desc)
