@@ -10,7 +10,7 @@ it as text, LaTeX or Markdown.
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import sympy as sp
 
@@ -20,39 +20,8 @@ from . import properties
 from .lumping import Lumped, lump
 from .model import Model
 from .notation import Notation, Prod, Sum
-
-#: rich text: plain strings and (text, latex) math pairs, printed per format
-Rich = tuple
-
-
-@dataclass
-class Eq:
-    lhs: tuple[str, str]  # (text, latex)
-    rhs: Sum | tuple[str, str]
-
-
-@dataclass
-class Section:
-    title: Rich
-    eqs: list[Eq] = field(default_factory=list)
-    notes: list[Rich] = field(default_factory=list)  # paragraphs after the equations
-    intro: list[Rich] = field(default_factory=list)  # paragraphs before them
-
-
-@dataclass
-class Report:
-    name: str
-    title: str
-    preamble: list[Rich]
-    sections: list[Section]
-    table: list[dict[str, str]]  # symbol table rows
-    properties: list[Rich]
-    nt: Notation
-
-
-def m(text: str, latex: str | None = None) -> tuple[str, str]:
-    """A piece of math: its text form and its LaTeX form."""
-    return (text, text if latex is None else latex)
+from .report_closed import sections as closed_sections
+from .report_parts import Eq, Report, Rich, Section, m
 
 
 @dataclass
@@ -86,8 +55,6 @@ def build(model: Model) -> Report:
     _check_lumped(d)
     sec = [_energy(d), _euler_lagrange(d), *_mass(d), _coriolis(d), _gravity(d)]
     if model.constraints.count:
-        from .report_closed import sections as closed_sections  # it imports Eq, Section, m
-
         sec += closed_sections(model, nt)
     return Report(model.desc.name, model.desc.title, _preamble(model, nt), sec, _table(model),
                   _properties(model), nt)

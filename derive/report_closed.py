@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .model import Model
 from .notation import Notation
-from .report import Eq, Section, m
+from .report_parts import Eq, Section, m
 
 
 def sections(model: Model, nt: Notation) -> list[Section]:

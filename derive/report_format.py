@@ -13,7 +13,7 @@ from __future__ import annotations
 import re
 import textwrap
 
-from .report import Eq, Report, Rich
+from .report_parts import Eq, Report, Rich
 
 WIDTH = 100  # text columns
 TEX_WIDTH = 66  # rendered characters per displayed line of LaTeX (see visible), lhs included
