@@ -267,3 +267,33 @@ def test_study_parameter_slip_is_refused(tmp_path):
     path = write(tmp_path, base.read_text() + "\n[parameters]\nm_link1 = \"-71 g\"\n")
     with pytest.raises(InputError, match=r"parameter m_link1 must be > 0 kg \(got -0.071\)"):
         run(path)
+
+
+FREE_FIVE_BAR = """
+robot = "five_bar_type2"
+kind = "forward"
+[units]
+angle = "deg"
+[simulation]
+q0 = {q0}
+duration = 0.2
+samples = 21
+"""
+
+
+def test_closed_chain_forward_study_from_the_actuated_joints(tmp_path):
+    """q0 = the actuated joints A, E (deg): the loop gives B and D; the drawn pose of the Type II
+    5-bar is A = 0, E = 90 deg, so this starts exactly there."""
+    result = run(write(tmp_path, FREE_FIVE_BAR.format(q0="[0.0, 90.0]")))
+    five = ps.load("five_bar_type2")
+    q0 = [result.columns[f"q{k}_rad"][0] for k in range(1, 5)]
+    assert np.max(np.abs(np.array(q0) - five.q_drawn)) < 1e-12
+    q = np.column_stack([result.columns[f"q{k}_rad"] for k in range(1, 5)])
+    assert np.max(np.abs(five.constraint(q))) < 1e-9
+
+
+def test_closed_chain_state_off_the_loops_is_refused(tmp_path):
+    path = write(tmp_path, FREE_FIVE_BAR.format(q0="[0.0, 90.0, 92.0, 90.0]"))
+    with pytest.raises(InputError, match=r"simulation.q0 does not close the loop at cut joint C: "
+                                         r"the joint's two points are [0-9.]+ mm apart"):
+        run(path)

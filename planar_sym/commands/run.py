@@ -87,5 +87,5 @@ def report(done, name: str, quiet: bool) -> None:
         return
     peaks = ", ".join(f"{k} {v:.4g}" for k, v in result.peak_torques().items())
     extra = f" (peak |tau| N*m: {peaks})" if peaks else ""
-    solver = f" [IK: {result.solver}]" if result.solver else ""
+    solver = f" [{result.solver}]" if result.solver else ""
     print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}{solver}")

@@ -48,11 +48,16 @@ def _axes(n: int):
 
 
 def _finish(fig, axes, result: Result, title: str) -> None:
+    import textwrap
+
     axes[-1].set_xlabel("time t (s)")
     fig.suptitle(f"{result.name}\n{title}", fontsize=9)
-    if result.note:
-        fig.text(0.01, 0.005, result.note, fontsize=7, alpha=0.7)
-    tight(fig)
+    lines = textwrap.wrap(result.note, 120)
+    if lines:
+        fig.text(0.01, 0.005, "\n".join(lines), fontsize=7, alpha=0.7, va="bottom")
+    # leave room for the note under the axes: 7 pt lines, about 0.12 in each
+    fig.tight_layout(rect=(0, 0.12 * len(lines) / fig.get_figheight(), 1, 1))
+    fig.set_layout_engine(None)
 
 
 def figure(result: Result):

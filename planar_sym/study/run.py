@@ -79,18 +79,82 @@ def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
     if m.space == "task":
         from ..motion.ik import inverse_kinematics
 
-        q_start = None if m.start_pose is None else np.array(m.start_pose) * st.angle_si
+        q_start = start_pose(st, robot)
         kw = {} if m.ik == "auto" and q_start is None else {"solver": m.ik, "q_start": q_start}
         jt = inverse_kinematics(robot, tr, **kw)  # TODO(helper-1 lands): always pass both
         return jt, tr.x
     if robot.is_closed_chain:
         from ..motion.closure import from_actuated
 
-        guess = None if m.start_pose is None else np.array(m.start_pose) * st.angle_si
+        guess = start_pose(st, robot)
         jt = from_actuated(robot, tr.t_s, tr.x, tr.xd, tr.xdd, q_guess=guess)
     else:
         jt = JointTrajectory(tr.t_s, tr.x, tr.xd, tr.xdd)
     return jt, (robot.task(jt.q)[0] if robot.task_names else None)
+
+
+#: a start pose for the inverse kinematics only picks the assembly mode, so it may be typed
+#: approximately; further off than this (m) it is not an assembled pose at all
+START_POSE_GAP_M = 1e-3
+#: the initial state of a simulation must be on the loops: this is the loops' own tolerance
+#: (m), the forward dynamics' drift limit
+STATE_GAP_M = 1e-9
+
+
+def start_pose(st: specs.Study, robot: Robot) -> np.ndarray | None:
+    """``motion.start_pose`` in rad; a closed chain's must be roughly assembled."""
+    if st.motion.start_pose is None:
+        return None
+    _check_width(st, "motion.start_pose", st.motion.start_pose, robot.n, "coordinate")
+    q = np.array(st.motion.start_pose) * st.angle_si
+    _check_loops(st, robot, "motion.start_pose", q, START_POSE_GAP_M)
+    return q
+
+
+def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
+    """(q0, qd0) in rad and rad/s. A closed chain's q0 is every coordinate, on the loops, or
+    its actuated joints only: the loops then give the passive ones (Newton from the drawn
+    pose), and qd0 (actuated joints too) the passive rates."""
+    s = st.simulation
+    n_act = len(robot.actuated)
+    if robot.is_closed_chain and len(s.q0) == n_act:
+        from ..motion.closure import complete_rates, solve_passive
+
+        qa = np.array(s.q0) * st.angle_si
+        qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0) * st.angle_si
+        _check_width(st, "simulation.qd0", qda, n_act, "actuated joint")
+        q0 = solve_passive(robot, qa[None])[0]
+        qd0, _ = complete_rates(robot, q0[None], qda[None], np.zeros((1, n_act)))
+        return q0, qd0[0]
+    what = "coordinate (or actuated joint, for a closed chain)" if robot.is_closed_chain \
+        else "coordinate"
+    _check_width(st, "simulation.q0", s.q0, robot.n, what)
+    q0 = np.array(s.q0) * st.angle_si
+    qd0 = np.zeros(robot.n) if s.qd0 is None else np.array(s.qd0) * st.angle_si
+    _check_width(st, "simulation.qd0", qd0, robot.n, "coordinate")
+    _check_loops(st, robot, "simulation.q0", q0, STATE_GAP_M)
+    if robot.is_closed_chain:
+        rate = np.abs(robot.constraint_jacobian(q0).reshape(robot.n_constraints, robot.n) @ qd0)
+        if np.max(rate) > STATE_GAP_M:
+            raise InputError(f"{st.path or st.name}: simulation.qd0 breaks the loops: "
+                             f"Phi_q qd0 = {np.max(rate):.3g} m/s (limit {STATE_GAP_M:g}); give "
+                             f"the actuated joints' rates only ({n_act} values) and the loops "
+                             "give the rest")
+    return q0, qd0
+
+
+def _check_loops(st, robot: Robot, fld: str, q: np.ndarray, limit: float) -> None:
+    if not robot.is_closed_chain:
+        return
+    gap = np.abs(robot.constraint(q)).reshape(-1, 2)
+    worst = int(np.argmax(np.max(gap, axis=1)))
+    if gap.max() > limit:
+        hint = (f"; give the actuated joints only ({len(robot.actuated)} values) and the "
+                "loops give the rest" if fld == "simulation.q0" else "")
+        raise InputError(f"{st.path or st.name}: {fld} does not close the loop at cut joint "
+                         f"{robot.loops[worst]}: the joint's two points are "
+                         f"{np.hypot(*gap[worst]) * 1e3:.4g} mm apart (limit "
+                         f"{limit * 1e3:g} mm){hint}")
 
 
 def channel_scale(st: specs.Study, robot: Robot) -> np.ndarray:
@@ -169,7 +233,7 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
     if st.motion.space == "joint" and robot.is_closed_chain:
         solver = "passive joints from the loops (Newton, continued)"
     if solver:
-        note += f"; inverse kinematics: {solver}"
+        note += f"; {'inverse kinematics' if st.motion.space == 'task' else 'joints'}: {solver}"
     split = torque_split(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s)
     return Result(st.name, st.title, cols, kind="torques", note=note, split=split,
                   robot=robot.name, solver=solver, actuated=robot.actuated)
@@ -179,10 +243,8 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     from ..dynamics.forward import simulate
 
     s = st.simulation
-    _check_width(st, "simulation.q0", s.q0, robot.n, "coordinate")
     t = np.linspace(0.0, s.duration_s, samples or s.samples)
-    q0 = np.array(s.q0) * st.angle_si
-    qd0 = np.zeros(robot.n) if s.qd0 is None else np.array(s.qd0) * st.angle_si
+    q0, qd0 = initial_state(st, robot)
     sim = simulate(robot, q0, qd0, (0.0, s.duration_s), t_eval=t, torque=_torque(st, robot),
                    method=s.method, rtol=s.rtol, atol=s.atol)
     cols = {"t_s": t}
