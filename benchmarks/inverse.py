@@ -49,7 +49,8 @@ def serial_states(n: int, size: int, seed: int = 1):
 
 
 def closed_states(robot, size: int):
-    from planar_sym.study.run import joint_motion, load_study
+    from planar_sym.study.motion import joint_motion
+    from planar_sym.study.run import load_study
 
     st = load_study(f"{robot.name}_move_x")
     base = min(size, 100_000)

@@ -18,7 +18,8 @@ from .errors import (
     SimulationError,
     WorkspaceError,
 )
-from .model.robot import Robot, load
+from .model.locate import load
+from .model.robot import Robot
 from .motion.profiles import Trajectory, cubic
 from .outputs.equations import Equations, equations
 

@@ -110,7 +110,8 @@ def seed_studies() -> dict:
 def study_motion(name: str, t=None):
     """(robot, task trajectory, joint trajectory) of a built-in inverse-dynamics study at times
     ``t`` (default 201 evenly spaced samples), exactly as the study runs it."""
-    from planar_sym.study.run import joint_motion, load_study, profile_at, robot_of
+    from planar_sym.study.motion import joint_motion, profile_at
+    from planar_sym.study.run import load_study, robot_of
 
     st = load_study(name)
     robot = robot_of(st)

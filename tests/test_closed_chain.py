@@ -38,7 +38,7 @@ from pinocchio_model import xyz as _xyz
 from planar_sym.dynamics.forward import simulate
 from planar_sym.model import description
 from planar_sym.model.description import GROUND
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 from planar_sym.motion import closure
 
 SCENARIOS = seed_studies()

@@ -19,7 +19,7 @@ from conftest import ALL_ROBOTS, TEST_ROBOTS, random_states, record, rel_err
 
 from derive.model import build
 from planar_sym.model import description
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 
 TOL = 1e-12
 N_SAMPLES = 20

@@ -14,7 +14,8 @@ from conftest import ALL_ROBOTS
 
 import planar_sym
 from planar_sym.errors import InputError
-from planar_sym.model.robot import Robot, load
+from planar_sym.model.locate import load
+from planar_sym.model.robot import Robot
 
 TOL = 1e-12
 FAST = ("mass_matrix", "bias", "gravity", "tree_inverse_dynamics", "energy")

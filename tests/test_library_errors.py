@@ -12,7 +12,8 @@ from conftest import GENERATED
 
 from planar_sym.errors import InputError, LibraryError
 from planar_sym.model.library import Library, build, library_path, read_manifest
-from planar_sym.model.robot import Robot, load
+from planar_sym.model.locate import load
+from planar_sym.model.robot import Robot
 
 
 @pytest.fixture

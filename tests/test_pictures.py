@@ -23,7 +23,7 @@ from planar_sym.cli import main
 from planar_sym.dynamics.inverse import SPLIT_PARTS
 from planar_sym.errors import PlanarSymError
 from planar_sym.model.description import load as load_description
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 from planar_sym.model.units import factor
 from planar_sym.motion.closure import complete_rates
 from planar_sym.outputs.drawing import drawing_figure, geometry
@@ -266,7 +266,7 @@ def test_closed_chain_split_by_virtual_work(robot):
     name = {"five_bar_type1": "five_bar_type1_move_y", "five_bar_type2": "five_bar_type2_move_x",
             "parallel_3rrr": "parallel_3rrr_move_x"}[robot]
     from planar_sym.dynamics.inverse import torque_split
-    from planar_sym.study.run import joint_motion
+    from planar_sym.study.motion import joint_motion
 
     r, st = load(robot), SCENARIOS[name]
     jt, _ = joint_motion(st, r, t=np.linspace(0.0, st.motion.duration_s, 9))

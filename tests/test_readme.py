@@ -41,7 +41,7 @@ def blocks() -> list[tuple[str, str, int]]:
 def commands(body: str) -> list[str]:
     lines, joined = [], ""
     for line in body.splitlines():
-        joined += line.rstrip("\\").rstrip() + " " if line.endswith("\\") else line
+        joined += line.rstrip("\\").strip() + " " if line.endswith("\\") else line.strip()
         if line.endswith("\\"):
             continue
         code = joined.split(" # ")[0].split("   #")[0].strip()
@@ -79,7 +79,7 @@ def test_every_readme_example_runs(tmp_path):
         for argv in runs:
             proc = subprocess.run(argv, cwd=tmp_path, env=env, capture_output=True, text=True,
                                   timeout=600, check=False)
-            what = " ".join(argv[3:]) if lang == "sh" else f"the python block"
+            what = " ".join(argv[3:]) if lang == "sh" else "the python block"
             assert proc.returncode == 0, (f"README line {line}: {what} failed:\n"
                                           f"{proc.stdout}\n{proc.stderr}")
             assert "Traceback" not in proc.stderr, proc.stderr

@@ -23,7 +23,7 @@ import pytest
 from conftest import seed_studies, study_motion
 
 from planar_sym.dynamics.forward import simulate
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 from planar_sym.study.run import run
 
 SCENARIOS = seed_studies()

@@ -10,8 +10,8 @@ from conftest import ROOT
 PROBE = """
 import sys
 import planar_sym
-import planar_sym.model.robot, planar_sym.model.library, planar_sym.model.description, planar_sym.errors
-robot = planar_sym.model.robot.load("serial_2dof")
+import planar_sym.model.locate, planar_sym.model.library, planar_sym.model.description, planar_sym.errors
+robot = planar_sym.model.locate.load("serial_2dof")
 robot.inverse_dynamics([0.1, 0.2], [0.0, 0.0], [0.0, 0.0])
 heavy = sorted(m for m in sys.modules if m.split(".")[0] in ("sympy", "derive", "pinocchio"))
 print(",".join(heavy) or "-")

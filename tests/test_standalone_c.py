@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from conftest import GENERATED, ROOT
 
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 
 EXAMPLE = ROOT / "examples" / "c"
 GEN = GENERATED / "serial_2dof"

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from conftest import GENERATED, random_states, record, rel_err
 
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 
 TOL = 1e-12
 

@@ -14,7 +14,7 @@ from conftest import ALL_ROBOTS, GENERATED, ROOT
 
 from planar_sym.analysis import validate
 from planar_sym.cli import main
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 
 ROW_COUNT = {"tree": 4, "closed": 7}
 

@@ -18,7 +18,7 @@ from pinocchio_model import xyz as _xyz
 
 from planar_sym.model import description
 from planar_sym.model.description import GROUND
-from planar_sym.model.robot import load
+from planar_sym.model.locate import load
 
 TOL = 1e-10
 N_SAMPLES = 50

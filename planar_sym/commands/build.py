@@ -14,7 +14,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..model.description import builtin_robots
     from ..model.library import Library
-    from ..model.robot import locate
+    from ..model.locate import locate
     from ..progress import Progress
 
     robots = args.robots or builtin_robots()

@@ -35,7 +35,7 @@ def table(rows) -> str:
 def run(args) -> int:
     from ..analysis.validate import run_all
     from ..errors import InputError
-    from ..model.robot import load
+    from ..model.locate import load
     from ..progress import Progress
 
     if args.samples < 1 or not args.seconds > 0:

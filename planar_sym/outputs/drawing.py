@@ -297,7 +297,7 @@ def drawing_figure(robot_name: str, q=None):
     matplotlib.figure.Figure
     """
     from ..model.description import load as load_description
-    from ..model.robot import load
+    from ..model.locate import load
     from .plots import new_figure, tight
 
     desc = load_description(robot_name)  # first: names the known robots if this is not one

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError, LibraryError
 from ..model.library import read_manifest
-from ..model.robot import locate
+from ..model.locate import locate
 
 #: output format -> generated file
 FILES = {"text": "equations.txt", "latex": "equations.tex", "markdown": "equations.md"}

@@ -1,0 +1,95 @@
+"""Finding a robot by what a user types: a built-in name, a description file (derived on first
+use) or a generated folder; loading it once per process."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+from ..errors import LibraryError
+from .library import Library, find_generated
+from .robot import Robot
+
+_CACHE: dict[tuple[Path, int, int], Library] = {}
+
+
+def locate(robot: str | os.PathLike, generated: str | os.PathLike | None = None
+           ) -> tuple[str, Path]:
+    """(name, generated folder) of a robot: a built-in name, a description file or a folder.
+
+    * a path ending in ``.toml`` is a robot description: derived and compiled on first use into
+      the cache (needs SymPy the first time), keyed by the hash of the file and the derivation
+      (``model.derived``);
+    * a plain name (no path separator) is looked up in ``generated`` if given, else on
+      ``PLANAR_SYM_GENERATED`` and among the built-in robots;
+    * anything else (a ``Path``, or a string with a separator) is a folder holding
+      ``manifest.json``, e.g. the ``DIR/<name>`` that ``planar-sym derive my_robot.toml --out
+      DIR`` wrote.
+    """
+    text = os.fspath(robot)
+    if text.endswith(".toml"):
+        from .derived import derived_folder
+
+        folder = derived_folder(text)
+        return _manifest_name(folder), folder
+    if isinstance(robot, os.PathLike) or os.sep in text or "/" in text:
+        folder = Path(robot)
+        if not (folder / "manifest.json").is_file():
+            raise LibraryError(f"{folder} is not a generated robot folder (no manifest.json): "
+                               "derive one with `planar-sym derive ROBOT.toml --out DIR`, then "
+                               "load DIR/<name>, or name the description file ROBOT.toml")
+        return _manifest_name(folder), folder
+    if generated is not None:
+        folder = Path(generated) / text
+        if not (folder / "manifest.json").is_file():
+            raise LibraryError(f"no generated robot {text!r} in {generated} (no "
+                               f"{folder / 'manifest.json'}): run `planar-sym derive "
+                               f"{text}.toml --out {generated}`")
+        return text, folder
+    if Path(text, "manifest.json").is_file() and not _is_known(text):
+        # a folder in the working directory named like a robot: say how to load it
+        raise LibraryError(f"no robot {text!r} among the built-in ones or on "
+                           f"PLANAR_SYM_GENERATED; to load the folder ./{text}, pass a path: "
+                           f"load('./{text}')")
+    from .description import builtin_robots
+
+    if not _is_known(text) and text not in builtin_robots():  # else: a stale checkout, below
+        raise LibraryError(f"unknown robot {text!r}: not a built-in robot "
+                           f"({', '.join(builtin_robots())}), nor a description file (.toml) "
+                           "or a generated folder (a path)")
+    return text, find_generated(text)
+
+
+def _manifest_name(folder: Path) -> str:
+    try:  # the name is the manifest's; Library re-reads and checks every file
+        return str(json.loads((folder / "manifest.json").read_text())["robot"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return folder.name
+
+
+def _is_known(name: str) -> bool:
+    try:
+        find_generated(name)
+    except LibraryError:
+        return False
+    return True
+
+
+def load(robot: str | os.PathLike, generated: str | os.PathLike | None = None) -> Robot:
+    """A robot, compiled on first use (cached by input hash, loaded once per process).
+
+    ``load("serial_2dof")``: built in (or on ``PLANAR_SYM_GENERATED``).
+    ``load("my_robot.toml")``: a description file, derived and compiled on first use (cached).
+    ``load("out/four_bar")`` or ``load(Path("out") / "four_bar")``: a folder written by
+    ``planar-sym derive four_bar.toml --out out``; ``load("four_bar", generated="out")`` is the
+    same.
+    """
+    name, folder = locate(robot, generated)
+    # keyed by the manifest file too: re-deriving into the same folder (a new manifest, swapped
+    # in by rename) in the same process loads the new code, not the first one
+    stat = (folder / "manifest.json").stat()
+    key = (folder.resolve(), stat.st_ino, stat.st_mtime_ns)
+    if key not in _CACHE:
+        _CACHE[key] = Library(name, folder)
+    return Robot(name, _CACHE[key])

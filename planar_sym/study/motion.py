@@ -1,0 +1,149 @@
+"""A study's motion in SI: the profile sampled in time, its joint motion (inverse kinematics in
+task space, the loops for a closed chain's passive joints), and checked start poses and states.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ..model.robot import Robot
+from ..motion.profiles import JointTrajectory, Trajectory, cubic
+from . import spec as specs
+
+
+def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
+                 t: np.ndarray | None = None) -> tuple[JointTrajectory, np.ndarray | None]:
+    """Every joint's motion (SI) of an inverse-dynamics study, and its task coordinates.
+
+    At ``samples`` evenly spaced times (default the study's), or at the times ``t`` (s).
+    """
+    m = st.motion
+    tr = trajectory(st, robot, samples) if t is None else profile_at(st, robot, np.asarray(t))
+    if m.space == "task":
+        from ..motion.ik import inverse_kinematics
+
+        q_start = start_pose(st, robot)
+        kw = {} if m.ik == "auto" and q_start is None else {"solver": m.ik, "q_start": q_start}
+        jt = inverse_kinematics(robot, tr, **kw)  # TODO(helper-1 lands): always pass both
+        return jt, tr.x
+    if robot.is_closed_chain:
+        from ..motion.closure import from_actuated
+
+        guess = start_pose(st, robot)
+        jt = from_actuated(robot, tr.t_s, tr.x, tr.xd, tr.xdd, q_guess=guess)
+    else:
+        jt = JointTrajectory(tr.t_s, tr.x, tr.xd, tr.xdd)
+    return jt, (robot.task(jt.q)[0] if robot.task_names else None)
+
+
+#: a start pose for the inverse kinematics only picks the assembly mode, so it may be typed
+#: approximately; further off than this (m) it is not an assembled pose at all
+START_POSE_GAP_M = 1e-3
+#: the initial state of a simulation must be on the loops: this is the loops' own tolerance
+#: (m), the forward dynamics' drift limit
+STATE_GAP_M = 1e-9
+
+
+def start_pose(st: specs.Study, robot: Robot) -> np.ndarray | None:
+    """``motion.start_pose`` in rad; a closed chain's must be roughly assembled."""
+    if st.motion.start_pose is None:
+        return None
+    check_width(st, "motion.start_pose", st.motion.start_pose, robot.n, "coordinate")
+    q = np.array(st.motion.start_pose) * st.angle_si
+    _check_loops(st, robot, "motion.start_pose", q, START_POSE_GAP_M)
+    return q
+
+
+def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
+    """(q0, qd0) in rad and rad/s. A closed chain's q0 is every coordinate, on the loops, or
+    its actuated joints only: the loops then give the passive ones (Newton from the drawn
+    pose), and qd0 (actuated joints too) the passive rates."""
+    s = st.simulation
+    n_act = len(robot.actuated)
+    if robot.is_closed_chain and len(s.q0) == n_act:
+        from ..motion.closure import complete_rates, solve_passive
+
+        qa = np.array(s.q0) * st.angle_si
+        qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0) * st.angle_si
+        check_width(st, "simulation.qd0", qda, n_act, "actuated joint")
+        q0 = solve_passive(robot, qa[None])[0]
+        qd0, _ = complete_rates(robot, q0[None], qda[None], np.zeros((1, n_act)))
+        return q0, qd0[0]
+    what = "coordinate (or actuated joint, for a closed chain)" if robot.is_closed_chain \
+        else "coordinate"
+    check_width(st, "simulation.q0", s.q0, robot.n, what)
+    q0 = np.array(s.q0) * st.angle_si
+    qd0 = np.zeros(robot.n) if s.qd0 is None else np.array(s.qd0) * st.angle_si
+    check_width(st, "simulation.qd0", qd0, robot.n, "coordinate")
+    _check_loops(st, robot, "simulation.q0", q0, STATE_GAP_M)
+    if robot.is_closed_chain:
+        rate = np.abs(robot.constraint_jacobian(q0).reshape(robot.n_constraints, robot.n) @ qd0)
+        if np.max(rate) > STATE_GAP_M:
+            raise InputError(f"{st.path or st.name}: simulation.qd0 breaks the loops: "
+                             f"Phi_q qd0 = {np.max(rate):.3g} m/s (limit {STATE_GAP_M:g}); give "
+                             f"the actuated joints' rates only ({n_act} values) and the loops "
+                             "give the rest")
+    return q0, qd0
+
+
+def _check_loops(st, robot: Robot, fld: str, q: np.ndarray, limit: float) -> None:
+    if not robot.is_closed_chain:
+        return
+    gap = np.abs(robot.constraint(q)).reshape(-1, 2)
+    worst = int(np.argmax(np.max(gap, axis=1)))
+    if gap.max() > limit:
+        hint = (f"; give the actuated joints only ({len(robot.actuated)} values) and the "
+                "loops give the rest" if fld == "simulation.q0" else "")
+        raise InputError(f"{st.path or st.name}: {fld} does not close the loop at cut joint "
+                         f"{robot.loops[worst]}: the joint's two points are "
+                         f"{np.hypot(*gap[worst]) * 1e3:.4g} mm apart (limit "
+                         f"{limit * 1e3:g} mm){hint}")
+
+
+def channel_scale(st: specs.Study, robot: Robot) -> np.ndarray:
+    """SI factor of each motion channel: lengths for x, y; angles for phi and joints."""
+    m = st.motion
+    if m.space == "task":
+        return np.array([st.angle_si if n == "phi" else st.length_si for n in robot.task_names])
+    width = len(robot.actuated) if robot.is_closed_chain else robot.n
+    return np.full(width, st.angle_si)
+
+
+def trajectory(st: specs.Study, robot: Robot, samples: int | None = None) -> Trajectory:
+    """The study's motion profile at its evenly spaced samples, in SI."""
+    return profile_at(st, robot, np.linspace(0.0, duration(st, robot), samples or st.motion.samples))
+
+
+def duration(st: specs.Study, robot: Robot) -> float:
+    """The motion's duration (s): given, or set by the profile (via points, table, trapezoid)."""
+    m = st.motion
+    if m.duration_s is not None:
+        return m.duration_s
+    return float(profile_at(st, robot, None).t_s[-1])
+
+
+def profile_at(st: specs.Study, robot: Robot, t: np.ndarray | None) -> Trajectory:
+    """The study's motion profile at times ``t`` (s), in SI; ``t = None``: at its own knots."""
+    m = st.motion
+    scale = channel_scale(st, robot)
+    what = ("task coordinates (" + ", ".join(robot.task_names) + ")" if m.space == "task" else
+            "actuated joints" if robot.is_closed_chain else "joints")
+    if m.profile in ("cubic", "quintic", "trapezoid"):
+        check_width(st, "motion.start", m.start, len(scale), what)
+        start = np.array(m.start) * scale
+        by = (np.array(m.by) * scale if m.by is not None
+              else np.array(m.end) * scale - start)
+        if m.profile == "cubic":  # the seed's form, bit for bit
+            return cubic(start, by, m.duration_s, np.array([0.0, m.duration_s]) if t is None else t)
+    return _profile(m, scale, t)
+
+
+def _profile(m: specs.Motion, scale: np.ndarray, t) -> Trajectory:
+    raise InputError(f"profile {m.profile!r} is not available yet")
+
+
+def check_width(st, fld: str, values, width: int, what: str) -> None:
+    if len(values) != width:
+        raise InputError(f"{st.path or st.name}: {fld}: {st.robot} needs {width} values, one per "
+                         f"{what} (got {len(values)})")
