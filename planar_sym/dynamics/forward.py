@@ -19,7 +19,7 @@ from scipy.integrate import solve_ivp
 
 from ..errors import InputError, SimulationError
 from ..model.library import SingleCall
-from ..model.robot import Robot, as_samples
+from ..model.robot import Robot, as_vector
 from .integrate import SCIPY_METHODS, Simulation, Torque, dopri5, time_grid, torque_function
 
 
@@ -28,8 +28,9 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
              method: str = "dopri5", max_steps: int = 10_000_000) -> Simulation:
     """Integrate a robot from (q0 rad, qd0 rad/s) over ``t_span`` (s) under ``torque`` (N*m).
 
-    ``torque``: None (zero), a constant (n,) vector, or a function of time returning (n,);
-    for a closed chain, torques of the actuated joints and ``q0`` the full coordinates.
+    ``torque``: None (zero), a constant vector, or a function of time returning one: one torque
+    (N*m) per actuated joint (every joint of a fully actuated arm; passive joints get none);
+    for a closed chain ``q0`` holds every coordinate, on the loops.
     Returns the state at ``t_eval`` (default: 1001 evenly spaced times), with energies.
     """
     if robot.is_closed_chain:
@@ -38,9 +39,9 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         return simulate_closed(robot, q0, qd0, t_span, torque=torque, t_eval=t_eval,
                                rtol=rtol, atol=atol, method=method)
     n = robot.n
-    x0 = np.concatenate([as_samples("q0", q0, n)[0], as_samples("qd0", qd0, n)[0]])
+    x0 = np.concatenate([as_vector("q0", q0, n), as_vector("qd0", qd0, n)])
     t = time_grid(t_span, t_eval)
-    tau_of = torque_function(torque, n)
+    tau_of = _on_actuated(torque_function(torque, len(robot.actuated)), robot)
     if method == "dopri5" and not callable(torque):
         fd = robot.library.address("forward_dynamics")
         y, n_rhs = dopri5(robot, 0, fd, x0, t, tau_of(t[0]), rtol, atol, max_steps)
@@ -82,3 +83,16 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     kin, pot = robot.energy(q, qd)
     taus = np.array([tau_of(tt) for tt in t])
     return Simulation(t, q, qd, taus, kin, pot, method, rtol, atol, count[0])
+
+
+def _on_actuated(tau_of, robot: Robot):
+    """Torques of the actuated joints as a vector over every coordinate (zero at a passive
+    joint): what the generated forward dynamics takes."""
+    if len(robot.actuated) == robot.n:
+        return tau_of
+    act, full = list(robot.actuated), np.zeros(robot.n)
+
+    def expanded(t: float) -> np.ndarray:
+        full[act] = tau_of(t)
+        return full.copy()
+    return expanded

@@ -7,7 +7,7 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..model.library import SingleCall
-from ..model.robot import Robot, as_samples
+from ..model.robot import Robot, as_vector
 from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, partition
 from .integrate import SCIPY_METHODS, Simulation, dopri5, time_grid, torque_function
 
@@ -54,7 +54,7 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
 
     act, _ = partition(robot)
     n, m = robot.n, robot.n_constraints
-    q, qd = project(robot, as_samples("q0", q0, n)[0], as_samples("qd0", qd0, n)[0])
+    q, qd = project(robot, as_vector("q0", q0, n), as_vector("qd0", qd0, n))
     t = time_grid(t_span, t_eval)
     tau_of = torque_function(torque, len(act))
     terms = SingleCall(robot.library.functions["constrained_terms"], robot.p)

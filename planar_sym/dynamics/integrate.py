@@ -78,9 +78,18 @@ def time_grid(t_span: tuple[float, float], t_eval) -> np.ndarray:
         raise InputError(f"time span must be finite with end > start (got {t_span})")
     if t_eval is None:
         return np.linspace(t0, t1, 1001)
-    t = np.asarray(t_eval, dtype=float)
-    if t.ndim != 1 or t.size < 2 or np.any(np.diff(t) <= 0) or t[0] < t0 or t[-1] > t1:
-        raise InputError(f"t_eval must be increasing times inside {t_span}")
+    try:
+        t = np.asarray(t_eval, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"t_eval must be an array of times in s ({exc})") from None
+    if t.ndim != 1:
+        raise InputError(f"t_eval must be a 1-D array of times, got shape {t.shape}")
+    bad = ~np.isfinite(t)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise InputError(f"t_eval[{k}] is {t[k]}: times must be finite")
+    if t.size < 2 or np.any(np.diff(t) <= 0) or t[0] < t0 or t[-1] > t1:
+        raise InputError(f"t_eval must be at least 2 increasing times inside {t_span}")
     return t
 
 

@@ -33,6 +33,16 @@ class Parameter:
     meaning: str
 
 
+def as_vector(name: str, a, width: int) -> np.ndarray:
+    """``a`` as one finite float64 vector of ``width`` values: (width,) or (1, width) only,
+    never the first row of several (a second initial state is a mistake to report)."""
+    arr = as_samples(name, a, width)
+    if len(arr) != 1:
+        raise InputError(f"{name} must be one vector of {width} values, got {len(arr)} rows "
+                         f"(shape {np.shape(a)})")
+    return arr[0].copy()
+
+
 def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> np.ndarray:
     """``a`` as a C-contiguous float64 (N, width) array; names the first bad sample."""
     try:
@@ -101,8 +111,9 @@ class Robot:
         methods = {"mass_matrix": "mass_matrix", "bias": "bias", "gravity": "gravity",
                    "tree_inverse_dynamics": "inverse_dynamics", "energy": "energy"}
         if not self.is_closed_chain:
-            methods.update(inverse_dynamics="inverse_dynamics",
-                           forward_dynamics="forward_dynamics")
+            methods.update(forward_dynamics="forward_dynamics")
+            if len(self.actuated) == self.n:  # else the method refuses (passive joints)
+                methods.update(inverse_dynamics="inverse_dynamics")
         else:
             methods.update(constraint="constraint", constraint_jacobian="constraint_jacobian",
                            constraint_bias="constraint_bias",
@@ -214,7 +225,20 @@ class Robot:
         if self.is_closed_chain:
             raise InputError(f"{self.name} is a closed chain: use closed_chain_inverse_dynamics "
                              "(torques and loop reaction forces together)")
+        self._refuse_passive_joints()
         return self.tree_inverse_dynamics(q, qd, qdd)
+
+    def _refuse_passive_joints(self) -> None:
+        """A tree with a joint that has no motor cannot follow an arbitrary joint trajectory:
+        the torque a motorless joint would need is not a number to return."""
+        passive = [c for i, c in enumerate(self.coordinates) if i not in self.actuated]
+        if passive:
+            raise InputError(
+                f"{self.name}: joint{'s' if len(passive) > 1 else ''} {', '.join(passive)} "
+                f"{'have' if len(passive) > 1 else 'has'} no motor (actuated = false): a serial "
+                "robot cannot follow an arbitrary joint trajectory with a passive joint, so "
+                "there is no torque to return there; simulate it under the actuated joints' "
+                "torques (planar_sym.simulate) or mark the joint actuated")
 
     def closed_chain_inverse_dynamics(self, q, qd, qdd, t=None) -> tuple[np.ndarray, np.ndarray]:
         """Actuated torques (N, actuated) in N*m and cut-joint forces lambda (N, 2 * loops) in N.
