@@ -733,8 +733,8 @@ def empty_span(ctx):
 
 
 @bad(SIM, "`t_eval` not increasing", InputError,
-     r"t_eval must be increasing times inside \(0, 1\)",
-     "t_eval must be increasing times inside (0, 1)")
+     r"t_eval must be at least 2 increasing times inside \(0, 1\)",
+     "t_eval must be at least 2 increasing times inside (0, 1)")
 def bad_t_eval(ctx):
     ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0, 1), t_eval=[0.5, 0.2])
 
