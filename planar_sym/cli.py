@@ -32,9 +32,25 @@ def main(argv: list[str] | None = None) -> int:
     except PlanarSymError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # files are written whole or not at all: nothing to clean up
+        print("interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # `planar-sym list | head -1`: the reader has what it wanted
+        _silence_stdout()
+        return 141
     except OSError as exc:  # disk full, permissions: say which file, no traceback
         print(f"error: {exc.strerror or exc} ({exc.filename or 'file system'})", file=sys.stderr)
         return 2
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null, so that flushing it at exit raises nothing more."""
+    import os
+
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError):  # no real file descriptor (captured output)
+        pass
 
 
 if __name__ == "__main__":

@@ -74,16 +74,22 @@ def random_states(robot: Robot, samples: int, seed: int):
 
 # -- (a) SymPy ----------------------------------------------------------------------------------
 def find_description(robot: Robot, given: Path | None = None) -> Path | None:
-    """The description: given, else the copy ``planar-sym derive`` writes, else the manifest's."""
-    from ..model.description import resolve, robots_dir
+    """The description: the one given (which must exist), else the robot's own (a built-in's,
+    or the copy ``planar-sym derive`` writes); never another robot's of the same name."""
+    from ..errors import InputError
 
-    folder, manifest = robot.library.folder, robot.library.manifest
-    root = Path(__file__).resolve().parent.parent  # manifest inputs are relative to the repo
-    for path in (given, folder / "description.toml", root / manifest.get("input", "-"),
-                 robots_dir() / f"{robot.name}.toml"):
-        if path is not None and path.is_file():
-            return resolve(path)
-    return None
+    if given is not None:
+        if not Path(given).is_file():
+            raise InputError(f"--description {given}: no such file")
+        return Path(given)
+    own = robot.description_file
+    if own is not None:
+        return own
+    # a copied generated folder: the manifest names the repo file it was derived from (a
+    # repo-relative path; a bare file name means a file outside the repo, not to be guessed)
+    source = robot.library.manifest.get("input", "")
+    path = Path(__file__).resolve().parents[2] / source
+    return path if "/" in source and path.is_file() else None
 
 
 def check_symbolic(robot: Robot, description: Path | None = None, samples: int = 20,

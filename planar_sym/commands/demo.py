@@ -6,8 +6,6 @@ import sys
 import time
 from pathlib import Path
 
-from ..errors import InputError
-
 
 def register(sub) -> None:
     p = sub.add_parser("demo", help="every built-in study (CSV, plots, animation), every robot "
@@ -23,18 +21,17 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..files import atomic_files
     from ..model.description import builtin_robots
-    from ..outputs.animation import writer_for
+    from ..outputs.animation import check_frames, writer_for
     from ..outputs.results import write
     from ..study.builtin import names
     from ..study.run import load_study
     from ..study.run import run as run_study
     from .draw import save_drawing
-    from .run import animate_study
+    from .run import animate_study, check_out, check_samples
 
-    if args.samples is not None and args.samples < 2:
-        raise InputError(f"--samples must be an integer >= 2 (got {args.samples})")
-    if args.frames < 2:
-        raise InputError(f"--frames must be an integer >= 2 (got {args.frames})")
+    check_samples(args.samples)
+    check_frames(args.frames, 80)
+    check_out(args.out)
     writer_for(Path("check.gif"), args.fps)  # a bad --fps fails before anything is written
     out, robots = Path(args.out), builtin_robots()
     studies = [load_study(name) for name in names()]

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import DescriptionError
+from ..errors import DescriptionError, LibraryError, PlanarSymError
 from ..model.derived import DESCRIPTION_COPY
 from ..model.deriving import derive_modules
 
@@ -52,8 +52,14 @@ def run(args) -> int:
     from ..model.library import Library
     from ..progress import Progress
 
+    if args.out.exists() and not args.out.is_dir():
+        raise PlanarSymError(f"--out {args.out} is a file, not a folder")
     derive_main = derive_modules()
     descs = validate_all(args.robots)  # raises before anything is derived or written
+    for desc in descs:  # a user's own file or folder there is never replaced
+        folder = args.out / desc.name
+        if folder.exists():
+            _check_replaceable(folder)
     progress = Progress(len(descs) * (1 if args.no_build else 2), quiet=args.quiet)
     rendered = []
     for desc in descs:
@@ -69,8 +75,30 @@ def run(args) -> int:
             message = f"{name}: wrote {folder}/"
         else:
             progress.step(f"compiling {name}")
-            message = f"{name}: wrote {folder}/, compiled {Library(name, folder).path}"
+            try:
+                message = f"{name}: wrote {folder}/, compiled {Library(name, folder).path}"
+            except LibraryError as exc:
+                raise LibraryError(f"{name}: wrote {folder}/, but compiling it failed (the "
+                                   f"generated C stays there; fix the compiler and run "
+                                   f"`planar-sym build {folder}`): {exc}") from None
         if not args.quiet:
             print(f"{message}\n  load it with planar_sym.load({str(folder)!r})")
     progress.done()
     return 0
+
+
+def _check_replaceable(folder: Path) -> None:
+    """Only a folder this command wrote is replaced: one with a manifest and nothing else but
+    the files the manifest lists (and the description copy)."""
+    import json
+
+    try:
+        listed = set(json.loads((folder / "manifest.json").read_text())["files"])
+    except (OSError, ValueError, KeyError, TypeError):
+        raise PlanarSymError(f"{folder} exists and is not a generated robot folder (no readable "
+                             "manifest.json): it is not replaced; choose another --out") from None
+    foreign = sorted(p.name for p in folder.iterdir()
+                     if p.name not in listed | {"manifest.json", DESCRIPTION_COPY})
+    if foreign:
+        raise PlanarSymError(f"{folder} holds files planar-sym did not write ({', '.join(foreign)}"
+                             "): it is not replaced; move them or choose another --out")

@@ -40,6 +40,8 @@ def run(args) -> int:
 
     if args.samples < 1 or not args.seconds > 0:
         raise InputError("--samples must be >= 1 and --seconds > 0")
+    if args.description is not None and not args.description.is_file():
+        raise InputError(f"--description {args.description}: no such file")
     robot = load(args.robot)
     progress = Progress(0, quiet=args.quiet)  # run_all sets the total
     rows = run_all(robot, args.description, samples=args.samples, seconds=args.seconds,
