@@ -75,3 +75,32 @@ def test_a_passive_joint_takes_no_torque_in_a_simulation(passive_elbow):
     assert np.max(np.abs(a.q - b.q)) < 1e-12
     with pytest.raises(InputError, match="torque"):
         ps.simulate(passive_elbow, [0.0, 0.5], [0.0, 0.0], (0.0, 0.3), torque=[0.2, 0.1])
+
+
+ARM = "serial_2dof"
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: ps.load(3), r"a robot is a built-in name, a description file or a generated folder"),
+    (lambda: ps.equations(None), r"a robot is a built-in name"),
+    (lambda: ps.Robot(3), r"Robot\(name\): a robot name \(str\), got int"),
+    (lambda: ps.simulate(ps.load(ARM), [0, 0], [0, 0], 5), r"time span must be two numbers"),
+    (lambda: ps.simulate(ps.load(ARM), [0, 0], [0, 0], ("a", "b")), r"time span must be two"),
+    (lambda: ps.simulate(ps.load(ARM), [0, 0], [0, 0], (0, 1), rtol="x"),
+     r"rtol must be a positive number \(got 'x'\)"),
+    (lambda: ps.simulate(ps.load(ARM), [0, 0], [0, 0], (0, 1), torque=lambda t: "x"),
+     r"torque function returned something that is not numbers at t = 0 s"),
+    (lambda: ps.simulate("serial_2dof", [0, 0], [0, 0], (0, 1)), r"simulate needs a Robot"),
+    (lambda: ps.cubic("a", [1.0], 1.0, [0.0]), r"trajectory start must be numbers"),
+    (lambda: ps.cubic([0.0], [1.0], "x", [0.0]), r"duration must be a positive number"),
+    (lambda: ps.cubic([0.0], [1.0], 1.0, [[0.0, 0.5]]), r"times must be a 1-D array"),
+    (lambda: ps.from_actuated(ps.load("five_bar_type1"), "x", [[0, 0]], [[0, 0]], [[0, 0]]),
+     r"t must be an array of numbers"),
+    (lambda: ps.from_actuated(ps.load("five_bar_type1"), [0, 1], [[2.07, 1.07]], [[0, 0]],
+                              [[0, 0]]), r"t has 2 times for 1 samples of q_act"),
+    (lambda: ps.plot(None), r"plot takes a study Result"),
+    (lambda: ps.validate(None), r"validate needs a Robot"),
+])
+def test_the_python_api_raises_its_own_errors(call, message):
+    with pytest.raises(ps.PlanarSymError, match=message):
+        call()

@@ -346,6 +346,9 @@ def check_energy(sim) -> Row:
 def run_all(robot: Robot, description: Path | None = None, *, samples: int = 20,
             seconds: float = 1.0, progress=None) -> list[Row]:
     """Every check that applies to ``robot``; a check that raises becomes a FAIL row."""
+    if not isinstance(robot, Robot):
+        raise PlanarSymError(f"validate needs a Robot (planar_sym.load), got "
+                             f"{type(robot).__name__}")
     closed = robot.is_closed_chain
     # shared by several checks, computed once; 0.05 rad keeps closed chains inside the workspace
     traj = functools.cache(lambda: motion(robot, 41, 0.05 if closed else 0.3))

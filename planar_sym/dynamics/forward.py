@@ -20,7 +20,15 @@ from scipy.integrate import solve_ivp
 from ..errors import InputError, SimulationError
 from ..model.library import SingleCall
 from ..model.robot import Robot, as_vector
-from .integrate import SCIPY_METHODS, Simulation, Torque, dopri5, time_grid, torque_function
+from .integrate import (
+    SCIPY_METHODS,
+    Simulation,
+    Torque,
+    check_tolerances,
+    dopri5,
+    time_grid,
+    torque_function,
+)
 
 
 def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torque = None,
@@ -33,6 +41,9 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     for a closed chain ``q0`` holds every coordinate, on the loops.
     Returns the state at ``t_eval`` (default: 1001 evenly spaced times), with energies.
     """
+    if not isinstance(robot, Robot):
+        raise InputError(f"simulate needs a Robot (planar_sym.load), got {type(robot).__name__}")
+    check_tolerances(rtol, atol)
     if robot.is_closed_chain:
         from .forward_closed import simulate_closed
 

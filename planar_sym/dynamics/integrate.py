@@ -56,7 +56,11 @@ def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:
         return lambda t: zero
     if callable(torque):
         def checked(t: float) -> np.ndarray:
-            tau = np.asarray(torque(t), dtype=float)
+            try:
+                tau = np.asarray(torque(t), dtype=float)
+            except (TypeError, ValueError) as exc:
+                raise InputError(f"torque function returned something that is not numbers at "
+                                 f"t = {t:.6g} s ({exc})") from None
             if tau.shape != (n,) or not np.all(np.isfinite(tau)):
                 raise InputError(f"torque function returned {tau!r} at t = {t:.6g} s; "
                                  f"expected {n} finite values (N*m)")
@@ -72,8 +76,17 @@ def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:
     return lambda t: const
 
 
+def check_tolerances(rtol, atol) -> None:
+    for name, v in (("rtol", rtol), ("atol", atol)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not v > 0:
+            raise InputError(f"{name} must be a positive number (got {v!r})")
+
+
 def time_grid(t_span: tuple[float, float], t_eval) -> np.ndarray:
-    t0, t1 = float(t_span[0]), float(t_span[1])
+    try:
+        t0, t1 = (float(v) for v in t_span)
+    except (TypeError, ValueError):
+        raise InputError(f"time span must be two numbers (t0, t1) in s (got {t_span!r})") from None
     if not (np.isfinite(t0) and np.isfinite(t1) and t1 > t0):
         raise InputError(f"time span must be finite with end > start (got {t_span})")
     if t_eval is None:

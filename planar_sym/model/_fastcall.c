@@ -131,7 +131,15 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
         if (self->out_kind[i] >= 1) dims[nd++] = self->out_rows[i];
         if (self->out_kind[i] == 2) dims[nd++] = self->out_cols[i];
         outs[i] = PyArray_SimpleNew(nd, dims, NPY_DOUBLE);
-        if (!outs[i]) goto done;
+        if (!outs[i]) {  /* say what was asked and what to do, as the package's own error */
+            if (PyErr_ExceptionMatches(PyExc_MemoryError)) {
+                double gb = 8.0 * (double)n * self->out_rows[i] * self->out_cols[i] / 1e9;
+                PyErr_Clear();
+                PyErr_Format(self->error, "not enough memory for the output of %zd samples "
+                             "(%.3g GB): evaluate them in smaller batches", (Py_ssize_t)n, gb);
+            }
+            goto done;
+        }
         out[i] = (double *)PyArray_DATA((PyArrayObject *)outs[i]);
     }
     if (self->fn((long long)n, in, out)) {

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import LibraryError
+from ..errors import InputError, LibraryError
 
 CFLAGS = ("-O3", "-fPIC", "-shared", "-std=c99")
 _DIR = Path(__file__).resolve().parent  # planar_sym/model: _fastcall.c
@@ -268,7 +268,12 @@ class BatchFunction:
             ptrs.append(a.ctypes.data)
         outs = {}
         for name, rows, cols, _ in self.spec.outputs:
-            outs[name] = np.empty((n, rows * cols))
+            try:
+                outs[name] = np.empty((n, rows * cols))
+            except MemoryError:
+                raise InputError(f"not enough memory for the output of {n} samples "
+                                 f"({8e-9 * n * rows * cols:.3g} GB): evaluate them in smaller "
+                                 "batches") from None
             ptrs.append(outs[name].ctypes.data)
         status = self._fn(n, *ptrs)
         if status:

@@ -7,7 +7,7 @@ import json
 import os
 from pathlib import Path
 
-from ..errors import LibraryError
+from ..errors import InputError, LibraryError
 from .library import Library, find_generated
 from .robot import Robot
 
@@ -27,6 +27,9 @@ def locate(robot: str | os.PathLike, generated: str | os.PathLike | None = None
       ``manifest.json``, e.g. the ``DIR/<name>`` that ``planar-sym derive my_robot.toml --out
       DIR`` wrote.
     """
+    if not isinstance(robot, (str, os.PathLike)):
+        raise InputError(f"a robot is a built-in name, a description file or a generated folder "
+                         f"(a str or Path), got {type(robot).__name__} {robot!r:.40}")
     text = os.fspath(robot)
     if text.endswith(".toml"):
         from .derived import derived_folder

@@ -73,6 +73,9 @@ class Robot:
 
     def __init__(self, name: str, library: Library | None = None,
                  parameters: np.ndarray | None = None, exact: bool | None = None):
+        if library is None and not isinstance(name, str):
+            raise InputError(f"Robot(name): a robot name (str), got {type(name).__name__}; "
+                             "load robots with planar_sym.load")
         self.library = library or Library(name)
         m = self.library.manifest
         self.name = m["robot"]

@@ -98,7 +98,21 @@ def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray
 
 
 def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> JointTrajectory:
-    """Full joint motion of a closed chain from its actuated joints' motion."""
+    """Full joint motion of a closed chain from its actuated joints' motion.
+
+    Parameters
+    ----------
+    t : ndarray, shape (N,)
+        Times (s), one per sample.
+    q_act, qd_act, qdd_act : ndarray, shape (N, actuated)
+        The actuated joints' angles (rad), rates (rad/s) and accelerations (rad/s^2).
+    q_guess : ndarray, shape (n,), optional
+        Where the first sample's Newton starts (default the drawn configuration): its assembly
+        mode is kept.
+    """
+    t = as_samples("t", np.reshape(t, (-1, 1)) if np.ndim(t) == 1 else t, 1)[:, 0]
+    if len(t) != len(np.atleast_2d(q_act)):
+        raise InputError(f"t has {len(t)} times for {len(np.atleast_2d(q_act))} samples of q_act")
     q = solve_passive(robot, q_act, q_guess, t)
     qd, qdd = complete_rates(robot, q, qd_act, qdd_act, t)
     return JointTrajectory(np.asarray(t), q, qd, qdd)

@@ -41,9 +41,11 @@ class JointTrajectory:
 
 def coeff_3rd(sp, sv, ep, ev, tsec: float) -> np.ndarray:
     """The seed's cubic coefficients, shape (channels, 4): c0 + c1 t + c2 t^2 + c3 t^3."""
-    if not np.isfinite(tsec) or tsec <= 0:
-        raise InputError(f"trajectory duration must be a positive number of seconds (got {tsec})")
-    sp, sv, ep, ev = (np.asarray(v, dtype=float).reshape(-1) for v in (sp, sv, ep, ev))
+    if isinstance(tsec, bool) or not isinstance(tsec, (int, float, np.number)) \
+            or not np.isfinite(tsec) or tsec <= 0:
+        raise InputError(f"trajectory duration must be a positive number of seconds (got {tsec!r})")
+    sp, sv, ep, ev = (_floats(name, v) for name, v in (("start", sp), ("start velocity", sv),
+                                                        ("end", ep), ("end velocity", ev)))
     for name, v in (("start", sp), ("start velocity", sv), ("end", ep), ("end velocity", ev)):
         if not np.all(np.isfinite(v)):
             raise InputError(f"trajectory {name} must be finite (got {v.tolist()})")
@@ -55,14 +57,23 @@ def coeff_3rd(sp, sv, ep, ev, tsec: float) -> np.ndarray:
     return c
 
 
+def _floats(name: str, v) -> np.ndarray:
+    """``v`` as a flat float array; anything that is not numbers is an InputError."""
+    try:
+        return np.asarray(v, dtype=float).reshape(-1)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"trajectory {name} must be numbers (got {v!r:.60}: {exc})") from None
+
+
 def cubic(x0, dx, duration_s: float, t_s) -> Trajectory:
     """Cubic from ``x0`` to ``x0 + dx`` over ``duration_s`` with zero end velocities, at ``t_s``."""
-    x0 = np.asarray(x0, dtype=float).reshape(-1)
-    dx = np.asarray(dx, dtype=float).reshape(-1)
+    x0, dx = _floats("start", x0), _floats("displacement", dx)
     if x0.shape != dx.shape:
         raise InputError(f"x0 and dx must have the same length (got {x0.size} and {dx.size})")
     c = coeff_3rd(x0, np.zeros_like(x0), x0 + dx, np.zeros_like(x0), duration_s)
-    t = np.asarray(t_s, dtype=float).reshape(-1)
+    if np.ndim(t_s) > 1:
+        raise InputError(f"trajectory times must be a 1-D array (got shape {np.shape(t_s)})")
+    t = _floats("times", t_s)
     if not np.all(np.isfinite(t)):
         raise InputError("trajectory times must be finite")
     outside = (t < 0) | (t > duration_s)

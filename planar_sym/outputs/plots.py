@@ -123,6 +123,11 @@ def plot(result: Result, split: bool = False):
         False: joint angles (deg) or torques (N*m) against time (s). True: each actuated
         torque (N*m) with its parts ``M qdd``, ``C qd`` and ``g``.
     """
+    if not isinstance(result, Result):
+        from ..errors import InputError
+
+        raise InputError(f"plot takes a study Result (planar_sym.run_study), got "
+                         f"{type(result).__name__}")
     if not split:
         return figure(result)
     if not result.split:
