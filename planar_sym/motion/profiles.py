@@ -30,12 +30,16 @@ class Trajectory:
 
 @dataclass(frozen=True)
 class JointTrajectory:
-    """Joint motion at times ``t_s``: q (rad), qd (rad/s), qdd (rad/s^2), each (N, n)."""
+    """Joint motion at times ``t_s``: q (rad), qd (rad/s), qdd (rad/s^2), each (N, n).
+
+    ``solver`` names the inverse kinematics that produced it ("seed closed form", "newton"),
+    empty where none ran (joint-space motion)."""
 
     t_s: np.ndarray
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
+    solver: str = ""
 
 
 
