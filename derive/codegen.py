@@ -124,18 +124,21 @@ def functions(model: Model) -> list[Generated]:
                 ("gamma", tr.matrix(con.accel_bias))],
                "M, h, Phi_q and gamma in one call: everything a KKT solve needs"),
             _closed_inverse_dynamics(fn, model, q, qd, qdd, p, ca.mtimes(M, qdd) + h,
-                                     tr.matrix(con.jacobian)),
+                                     tr.matrix(con.jacobian), tr.matrix(con.phi),
+                                     tr.matrix(con.accel_bias)),
         ]
     return out
 
 
-def _closed_inverse_dynamics(fn, model: Model, q, qd, qdd, p, b, jac) -> Generated:
-    """Torques, cut-joint forces and the singularity measure of a closed chain, fused.
+def _closed_inverse_dynamics(fn, model: Model, q, qd, qdd, p, b, jac, phi, gamma) -> Generated:
+    """Torques, cut-joint forces, the singularity measure and the loop residuals, fused.
 
     ``[S^T Phi_q^T][tau; lambda] = b`` splits into ``Phi_p^T lambda = b_p`` (passive rows)
     and ``tau = b_a - Phi_a^T lambda``; the whole matrix is singular exactly when ``Phi_p`` is,
-    so its 1-norm condition number ``||Phi_p^T||_1 ||Phi_p^-T||_1`` is the measure. One
-    function shares every sine and cosine between the dynamics and the constraints.
+    so its 1-norm condition number ``||Phi_p^T||_1 ||Phi_p^-T||_1`` is the measure. The
+    residuals ``Phi``, ``Phi_q qd`` and ``Phi_q qdd - gamma`` let the runtime refuse a state
+    that is off the loops, at the cost of a few products: one function shares every sine and
+    cosine between the dynamics and the constraints.
     """
     act = list(model.desc.actuated)
     pas = [i for i in range(len(model.sym.q)) if i not in act]
@@ -148,9 +151,12 @@ def _closed_inverse_dynamics(fn, model: Model, q, qd, qdd, p, b, jac) -> Generat
         return ca.mmax(ca.sum1(ca.fabs(a)))
 
     return fn("closed_inverse_dynamics", [("q", q), ("qd", qd), ("qdd", qdd), ("p", p)],
-              [("tau", tau), ("lambda", lam), ("cond", norm1(pt) * norm1(inv))],
+              [("tau", tau), ("lambda", lam), ("cond", norm1(pt) * norm1(inv)),
+               ("phi", phi), ("phi_v", ca.mtimes(jac, qd)),
+               ("phi_a", ca.mtimes(jac, qdd) - gamma)],
               "closed-chain torques tau (actuated), cut-joint forces lambda and the 1-norm "
-              "condition number of Phi_p, from M qdd + h = S^T tau + Phi_q^T lambda")
+              "condition number of Phi_p, from M qdd + h = S^T tau + Phi_q^T lambda; and the "
+              "loop residuals Phi (m), Phi_q qd (m/s), Phi_q qdd - gamma (m/s^2)")
 
 
 def _batch_wrapper(g: Generated) -> str:

@@ -719,8 +719,8 @@ def drift_limit(ctx):
 
 
 @bad(SIM, "non-positive tolerance: `rtol=0`", InputError,
-     r"tolerances must be positive \(rtol 0, atol 1e-12\)",
-     "tolerances must be positive (rtol 0, atol 1e-12)")
+     r"rtol must be a positive number \(got 0\)",
+     "rtol must be a positive number (got 0)")
 def zero_tolerance(ctx):
     ps.simulate(_arm(), [0.0, 0.0], [0.0, 0.0], (0.0, 1.0), rtol=0)
 

@@ -58,13 +58,17 @@ def test_study_gives_the_scenario_numbers_exactly(name):
             continue  # a column the old CSV did not have (task columns of a forward run)
         reference = ref[f"{name}/{old}"]
         scale = max(np.max(np.abs(reference)), 1e-300)
-        assert np.max(np.abs(values - reference)) / scale <= 1e-15, (new, old)
+        # 0 when the scenario code was replaced (commit "Studies as data"); later changes to
+        # the generated code (the fused closed-chain function gained its loop residuals)
+        # reorder rounding by an ulp or two
+        assert np.max(np.abs(values - reference)) / scale <= 1e-14, (new, old)
         compared.add(old)
     expected = {k.split("/", 1)[1] for k in ref.files if k.startswith(f"{name}/")
                 and "/split_" not in k}
     assert compared == expected  # every old column is still there
     for part, values in result.split.items():
-        np.testing.assert_array_equal(values, ref[f"{name}/split_{part}"])
+        reference = ref[f"{name}/split_{part}"]
+        assert np.max(np.abs(values - reference)) <= 1e-14 * max(np.max(np.abs(reference)), 1e-300)
 
 
 def test_a_study_file_copied_elsewhere_runs_on_its_own(tmp_path):

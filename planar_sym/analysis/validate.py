@@ -165,12 +165,14 @@ def _sympy_reference(model, p, states) -> dict[str, np.ndarray]:
             out[key].append(v)
     refs = {k: np.array(v) for k, v in out.items() if v}
     if con.phi.shape[0]:  # closed chains: the fused solve, by numpy from the SymPy M, h, Phi_q
-        refs.update(_closed_reference(model, refs, states["qdd"]))
+        refs.update(_closed_reference(model, refs, states["qd"], states["qdd"]))
     return refs
 
 
-def _closed_reference(model, refs: dict, qdd: np.ndarray) -> dict[str, np.ndarray]:
-    """tau (actuated), lambda and cond of closed_inverse_dynamics from [S^T Phi_q^T] solved."""
+def _closed_reference(model, refs: dict, qd: np.ndarray, qdd: np.ndarray
+                      ) -> dict[str, np.ndarray]:
+    """tau (actuated), lambda and cond of closed_inverse_dynamics from [S^T Phi_q^T] solved,
+    and its loop residuals Phi_q qd, Phi_q qdd - gamma."""
     act = list(model.desc.actuated)
     n = len(model.sym.q)
     pas = [i for i in range(n) if i not in act]
@@ -180,7 +182,9 @@ def _closed_reference(model, refs: dict, qdd: np.ndarray) -> dict[str, np.ndarra
     a[:, :, len(act):] = jac.transpose(0, 2, 1)
     sol = np.linalg.solve(a, refs["tau"].reshape(len(jac), n, 1))[..., 0]
     return {"closed.tau": sol[:, :len(act)], "lambda": sol[:, len(act):],
-            "cond": np.linalg.cond(jac[:, :, pas].transpose(0, 2, 1), 1)}
+            "cond": np.linalg.cond(jac[:, :, pas].transpose(0, 2, 1), 1),
+            "phi_v": np.einsum("kij,kj->ki", jac, qd),
+            "phi_a": np.einsum("kij,kj->ki", jac, qdd) - refs["gamma"].reshape(len(jac), -1)}
 
 
 # -- (b) Lagrange from the energy ---------------------------------------------------------------

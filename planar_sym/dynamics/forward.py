@@ -33,12 +33,15 @@ from .integrate import (
 
 def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torque = None,
              t_eval=None, rtol: float = 1e-11, atol: float = 1e-12,
-             method: str = "dopri5", max_steps: int = 10_000_000) -> Simulation:
+             method: str = "dopri5", max_steps: int = 10_000_000,
+             project: bool = False) -> Simulation:
     """Integrate a robot from (q0 rad, qd0 rad/s) over ``t_span`` (s) under ``torque`` (N*m).
 
     ``torque``: None (zero), a constant vector, or a function of time returning one: one torque
     (N*m) per actuated joint (every joint of a fully actuated arm; passive joints get none);
-    for a closed chain ``q0`` holds every coordinate, on the loops.
+    for a closed chain ``q0`` holds every coordinate, on the loops, and ``qd0`` is consistent
+    with them (else InputError; ``project=True`` solves the passive joints from the actuated
+    ones instead and reports ``initial_correction_rad``).
     Returns the state at ``t_eval`` (default: 1001 evenly spaced times), with energies.
     """
     if not isinstance(robot, Robot):
@@ -48,7 +51,7 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         from .forward_closed import simulate_closed
 
         return simulate_closed(robot, q0, qd0, t_span, torque=torque, t_eval=t_eval,
-                               rtol=rtol, atol=atol, method=method)
+                               rtol=rtol, atol=atol, method=method, project_state=project)
     n = robot.n
     x0 = np.concatenate([as_vector("q0", q0, n), as_vector("qd0", qd0, n)])
     t = time_grid(t_span, t_eval)

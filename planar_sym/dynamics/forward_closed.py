@@ -8,7 +8,7 @@ import numpy as np
 from ..errors import InputError, SimulationError
 from ..model.library import SingleCall
 from ..model.robot import Robot, as_vector
-from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, partition
+from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, partition, solve_passive
 from .integrate import SCIPY_METHODS, Simulation, dopri5, time_grid, torque_function
 
 
@@ -29,9 +29,32 @@ def project(robot: Robot, q, qd) -> tuple[np.ndarray, np.ndarray]:
     return q, qd
 
 
+def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: bool
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """The user's initial state, checked on the loops; or, asked, its passive joints solved."""
+    if project_state:
+        act = list(robot.actuated)
+        q = solve_passive(robot, q0[act][None], q_guess=q0)[0]
+        qd, _ = complete_rates(robot, q[None], qd0[act][None], np.zeros((1, len(act))))
+        return q, qd[0]
+    jac = robot.constraint_jacobian(q0).reshape(robot.n_constraints, robot.n)
+    phi = robot.constraint(q0).reshape(1, -1)
+    zero = np.zeros((1, robot.n_constraints))
+    for label, rows in (("q0", (phi, zero, zero)), ("qd0", (zero, (jac @ qd0)[None], zero))):
+        try:
+            robot.check_on_loops(*rows, qd0[None], np.zeros((1, robot.n)))
+        except InputError as exc:
+            raise InputError(str(exc).replace("sample 0", label, 1).replace(
+                "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)",
+                "give a state on the loops (motion.closure.solve_passive), or pass "
+                "project_state=True to solve the passive joints from the actuated ones")) from None
+    return q0.copy(), qd0.copy()
+
+
 def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
                     rtol: float = 1e-11, atol: float = 1e-12, method: str = "dopri5",
-                    segment_s: float = 0.1, drift_limit_m: float = 1e-6):
+                    segment_s: float = 0.1, drift_limit_m: float = 1e-6,
+                    project_state: bool = False):
     """Forward dynamics of a closed chain, on the constraint manifold.
 
     Method (index reduction with projection): the full state (q, qd) is integrated (the C
@@ -45,8 +68,11 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
 
     and every ``segment_s`` the state is projected back onto Phi = 0, Phi_q qd = 0 (the
     integrator restarts there); a segment that drifts beyond ``drift_limit_m`` raises
-    SimulationError naming the time. ``q0`` is the full coordinate vector (projected first);
-    ``torque`` acts on the actuated joints. The result reports ``constraint_drift_m``, the
+    SimulationError naming the time. ``q0`` is the full coordinate vector and must be on the
+    loops, and ``qd0`` consistent with them (``Robot.check_on_loops``), else InputError; with
+    ``project_state=True`` the passive joints' angles and rates are solved from the actuated
+    ones instead (never the actuated joints moved), and ``initial_correction_rad`` reports how
+    far. ``torque`` acts on the actuated joints. The result reports ``constraint_drift_m``, the
     largest |Phi| at any output time.
     """
     from scipy.integrate import solve_ivp
@@ -54,7 +80,9 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
 
     act, _ = partition(robot)
     n, m = robot.n, robot.n_constraints
-    q, qd = project(robot, as_vector("q0", q0, n), as_vector("qd0", qd0, n))
+    q_given = as_vector("q0", q0, n)
+    q, qd = initial_state(robot, q_given, as_vector("qd0", qd0, n), project_state)
+    correction = float(np.max(np.abs(q - q_given)))
     t = time_grid(t_span, t_eval)
     tau_of = torque_function(torque, len(act))
     terms = SingleCall(robot.library.functions["constrained_terms"], robot.p)
@@ -116,4 +144,5 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     drift = float(np.max(np.abs(robot.constraint(qa))))
     kin, pot = robot.energy(qa, qda)
     taus = np.array([tau_of(tt) for tt in t])
-    return Simulation(t, qa, qda, taus, kin, pot, method, rtol, atol, count[0], drift)
+    return Simulation(t, qa, qda, taus, kin, pot, method, rtol, atol, count[0], drift,
+                      correction)

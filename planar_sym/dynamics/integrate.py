@@ -36,6 +36,7 @@ class Simulation:
     atol: float
     n_rhs: int
     constraint_drift_m: float = 0.0  # max |Phi| over the run (closed chains)
+    initial_correction_rad: float = 0.0  # how far project=True moved the passive joints
 
     @property
     def energy_j(self) -> np.ndarray:

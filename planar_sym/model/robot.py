@@ -24,6 +24,14 @@ from .library import Library, builtin_generated_dirs, fastcall
 #: are already about a million times their size at a well-conditioned pose.
 COND_LIMIT = 1e6
 
+#: a closed chain's state is on its loops when its residuals stay within this (m; see
+#: Robot.check_on_loops): Newton closes them to 1e-13 m, the seed's closed forms to 1e-16 m
+LOOP_TOL_M = 1e-9
+
+
+def _when(t, k: int) -> str:
+    return f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
+
 
 @dataclass(frozen=True)
 class Parameter:
@@ -246,33 +254,63 @@ class Robot:
     def closed_chain_inverse_dynamics(self, q, qd, qdd, t=None) -> tuple[np.ndarray, np.ndarray]:
         """Actuated torques (N, actuated) in N*m and cut-joint forces lambda (N, 2 * loops) in N.
 
-        q, qd, qdd: every coordinate, consistent with the loops (from inverse_kinematics or
+        q, qd, qdd: every coordinate, on the loops (from inverse_kinematics or
         motion.closure.from_actuated). Convention: M qdd + h = S^T tau + Phi_q^T lambda, solved
-        in one generated function; a pose where the passive-joint constraint Jacobian Phi_p is
-        singular (1-norm condition number above COND_LIMIT) raises WorkspaceError.
-        ``t`` (s, optional) only names the time of a bad sample.
+        in one generated function, which also returns the loop residuals; a sample off the
+        loops (``LOOP_TOL_M``, see ``check_on_loops``) raises InputError, and a pose where the
+        passive-joint constraint Jacobian Phi_p is singular (1-norm condition number above
+        COND_LIMIT) raises WorkspaceError, each naming the sample (and the time ``t``, s).
         """
         if not self.is_closed_chain:
             raise InputError(f"{self.name} is not a closed chain: use inverse_dynamics")
         q, qd, qdd = (as_samples(k, a, self.n, times=t) for k, a in (("q", q), ("qd", qd),
                                                                        ("qdd", qdd)))
-        tau, lam, cond = self._closed_inverse_dynamics(q, qd, qdd)
-        tau, lam, cond = (np.asarray(a).reshape(len(q), -1) for a in (tau, lam, cond))
+        out = self._closed_inverse_dynamics(q, qd, qdd)
+        tau, lam, cond, phi, phi_v, phi_a = (np.asarray(a).reshape(len(q), -1) for a in out)
+        self.check_on_loops(phi, phi_v, phi_a, qd, qdd, t)
         bad = ~np.isfinite(cond[:, 0]) | (cond[:, 0] > COND_LIMIT)
         if bad.any():
             k = int(np.argmax(bad))
-            when = f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
-            raise WorkspaceError(f"{self.name}: singular pose at {when}: the passive-joint "
+            raise WorkspaceError(f"{self.name}: singular pose at {_when(t, k)}: the passive-joint "
                                  f"constraint Jacobian Phi_p (which the actuation matrix "
                                  f"[S^T Phi_q^T] needs) has 1-norm condition number "
                                  f"{cond[k, 0]:.3g} > {COND_LIMIT:g}")
         return tau, lam
 
+    def check_on_loops(self, phi, phi_v, phi_a, qd, qdd, t=None) -> None:
+        """Refuse samples off the loop constraints, naming the first and its residual.
+
+        .. code:: text
+
+            |Phi|                  <= LOOP_TOL_M                              (m)
+            |Phi_q qd|             <= LOOP_TOL_M (1 + max|qd|)                (m/s)
+            |Phi_q qdd - gamma|    <= LOOP_TOL_M (1 + max|qd|^2 + max|qdd|)   (m/s^2)
+
+        (rates in rad/s, accelerations in rad/s^2: the allowance grows with the terms' size)
+        """
+        speed = np.max(np.abs(qd), axis=1)
+        limits = {"Phi (m)": (phi, LOOP_TOL_M * np.ones(len(phi))),
+                  "Phi_q qd (m/s)": (phi_v, LOOP_TOL_M * (1 + speed)),
+                  "Phi_q qdd - gamma (m/s^2)": (
+                      phi_a, LOOP_TOL_M * (1 + speed**2 + np.max(np.abs(qdd), axis=1)))}
+        for what, (residual, limit) in limits.items():
+            worst = np.max(np.abs(residual), axis=1)
+            bad = ~(worst <= limit)
+            if bad.any():
+                k = int(np.argmax(bad))
+                cut = self.loops[int(np.argmax(np.abs(residual[k]))) // 2]
+                raise InputError(
+                    f"{self.name}: sample {k}{' (t = %.6g s)' % t[k] if t is not None else ''} "
+                    f"is off the loop constraints: |{what.split(' (')[0]}| = {worst[k]:.3g} "
+                    f"{what.split('(')[1][:-1]} at cut joint {cut} (limit {limit[k]:.3g}); "
+                    "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)")
+
     def _closed_inverse_dynamics(self, q, qd, qdd):
-        """(tau, lambda, cond) of the fused generated function (exact path)."""
+        """The fused generated function's outputs (exact path): tau, lambda, cond and the loop
+        residuals Phi, Phi_q qd, Phi_q qdd - gamma."""
         r = self._fns["closed_inverse_dynamics"](len(q), {"q": q, "qd": qd, "qdd": qdd,
                                                           "p": self.p})
-        return r["tau"], r["lambda"], r["cond"]
+        return tuple(r[k] for k in ("tau", "lambda", "cond", "phi", "phi_v", "phi_a"))
 
     def forward_dynamics(self, q, qd, tau) -> np.ndarray:
         """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2."""
