@@ -59,7 +59,8 @@ DESC, ARRAYS, TRAJ, SIM, FILES, CLI = ("Robot descriptions", "Runtime arrays and
                                        "Trajectories and inverse kinematics",
                                        "Forward simulation", "Generated files and libraries",
                                        "Command line")
-AREAS = (DESC, ARRAYS, TRAJ, SIM, FILES, CLI)
+STUDY, LOOPS = "Study files", "Closed chains off their loops, passive joints"
+AREAS = (DESC, ARRAYS, TRAJ, SIM, LOOPS, STUDY, FILES, CLI)
 
 
 class CommandFailed(Exception):
@@ -671,11 +672,14 @@ def nan_start(ctx):
     cubic([np.nan, 0.1], [0.05, 0.0], 2.0, [0.0])
 
 
-@bad(TRAJ, "inverse kinematics for a robot without a closed form (your own pendulum)",
-     WorkspaceError,
-     r"no closed-form inverse kinematics for pendulum; built in for serial_2dof, serial_3dof",
-     "no closed-form inverse kinematics for pendulum; built in for serial_2dof, serial_3dof, "
-     "five_bar_type1, five_bar_type2, parallel_3rrr")
+@bad(TRAJ, "task-space inverse kinematics of a 1-DOF pendulum along an (x, y) path: task and "
+     "actuation do not match", WorkspaceError,
+     r"pendulum: no inverse kinematics in task space: it has 1 coordinate, 0 loop equations "
+     r"\(1 degree of freedom\), a 2-coordinate task \(x, y\)",
+     "pendulum: no inverse kinematics in task space: it has 1 coordinate, 0 loop equations (1 "
+     "degree of freedom), a 2-coordinate task (x, y) and 1 actuated joint; the task must fix "
+     "the 1 degree of freedom, so 2 != 1: drive its actuated joint in joint space instead (a "
+     "study's motion.space = \"joint\", or motion.closure.from_actuated)")
 def no_ik(ctx):
     from derive.__main__ import main as derive_main
 
@@ -1019,6 +1023,282 @@ def cli_derive_bad(ctx):
      "tests/test_cli.py::test_equations_unknown_robot")
 def cli_equations_unknown(ctx):
     _cli(ctx, "equations", "no_such_robot")
+
+
+# -- closed chains off their loops, passive joints --------------------------------------------------
+
+def _five():
+    return ps.load("five_bar_type1")
+
+
+@bad(LOOPS, "closed-chain torques for `q` off the loops (a passive angle 10 mrad off)",
+     InputError, r"five_bar_type1: sample 0 is off the loop constraints: \|Phi\| = [0-9.e-]+ m "
+     r"at cut joint C \(limit 1e-09\)",
+     "five_bar_type1: sample 0 is off the loop constraints: |Phi| = 0.00101 m at cut joint C "
+     "(limit 1e-09); give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)",
+     "tests/test_loop_inputs.py")
+def off_loops_q(ctx):
+    five = _five()
+    q = five.q_drawn.copy()
+    q[1] += 0.01
+    five.closed_chain_inverse_dynamics(q, 0 * q, 0 * q)
+
+
+@bad(LOOPS, "closed-chain torques for rates that break the loop (only A moving)", InputError,
+     r"sample 0 is off the loop constraints: \|Phi_q qd\| = [0-9.e-]+ m/s at cut joint C",
+     "five_bar_type1: sample 0 is off the loop constraints: |Phi_q qd| = 0.14 m/s at cut joint "
+     "C (limit 2e-09); give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)")
+def off_loops_qd(ctx):
+    five = _five()
+    five.closed_chain_inverse_dynamics(five.q_drawn, [1.0, 0.0, 0.0, 0.0], np.zeros(4))
+
+
+@bad(LOOPS, "closed-chain torques for accelerations that break the loop", InputError,
+     r"sample 0 is off the loop constraints: \|Phi_q qdd - gamma\| = [0-9.e-]+ m/s\^2",
+     "five_bar_type1: sample 0 is off the loop constraints: |Phi_q qdd - gamma| = 0.14 m/s^2 at "
+     "cut joint C (limit 2e-09); give q, qd, qdd that close the loops (inverse_kinematics, "
+     "from_actuated)")
+def off_loops_qdd(ctx):
+    five = _five()
+    five.closed_chain_inverse_dynamics(five.q_drawn, np.zeros(4), [1.0, 0.0, 0.0, 0.0])
+
+
+@bad(LOOPS, "`simulate` a closed chain from a `q0` off the loops (no longer projected silently)",
+     InputError, r"five_bar_type1: q0 is off the loop constraints: \|Phi\| = .*project_state=True",
+     "five_bar_type1: q0 is off the loop constraints: |Phi| = 0.00101 m at cut joint C (limit "
+     "1e-09); give a state on the loops (motion.closure.solve_passive), or pass "
+     "project_state=True to solve the passive joints from the actuated ones",
+     "tests/test_loop_inputs.py::test_simulate_does_not_move_a_state_off_the_loops")
+def off_loops_q0(ctx):
+    five = _five()
+    q = five.q_drawn.copy()
+    q[1] += 0.01
+    ps.simulate(five, q, np.zeros(4), (0.0, 0.1))
+
+
+@bad(LOOPS, "`simulate` a closed chain from rates that break the loop", InputError,
+     r"five_bar_type1: qd0 is off the loop constraints: \|Phi_q qd\|",
+     "five_bar_type1: qd0 is off the loop constraints: |Phi_q qd| = 0.14 m/s at cut joint C "
+     "(limit 2e-09); give a state on the loops (motion.closure.solve_passive), or pass "
+     "project_state=True to solve the passive joints from the actuated ones")
+def off_loops_qd0(ctx):
+    five = _five()
+    ps.simulate(five, five.q_drawn, [1.0, 0.0, 0.0, 0.0], (0.0, 0.1))
+
+
+@bad(LOOPS, "joint torques of a serial arm whose elbow has no motor (`actuated = false`)",
+     InputError, r"passive_elbow: joint joint2 has no motor \(actuated = false\)",
+     "passive_elbow: joint joint2 has no motor (actuated = false): a serial robot cannot follow "
+     "an arbitrary joint trajectory with a passive joint, so there is no torque to return "
+     "there; simulate it under the actuated joints' torques (planar_sym.simulate) or mark the "
+     "joint actuated", "tests/test_never_silent.py")
+def passive_tree_joint(ctx):
+    text = SERIAL.replace('name = "serial_2dof"', 'name = "passive_elbow"')
+    head, tail = text.split('name = "joint2"')
+    path = ctx.tmp / "passive_elbow.toml"
+    path.write_text(head + 'name = "joint2"' + tail.replace("actuated = true", "actuated = false", 1))
+    robot = ps.load(path)
+    robot.inverse_dynamics(np.zeros(2), np.zeros(2), np.zeros(2))
+
+
+@bad(LOOPS, "two initial states given to `simulate` (the first one used to be taken)", InputError,
+     r"q0 must be one vector of 2 values, got 2 rows \(shape \(2, 2\)\)",
+     "q0 must be one vector of 2 values, got 2 rows (shape (2, 2))",
+     "tests/test_never_silent.py")
+def two_initial_states(ctx):
+    ps.simulate(_arm(), np.zeros((2, 2)), np.zeros(2), (0.0, 1.0))
+
+
+@bad(LOOPS, "a NaN in `t_eval` (it used to fail later as an integrator error)", InputError,
+     r"t_eval\[1\] is nan: times must be finite", "t_eval[1] is nan: times must be finite")
+def nan_t_eval(ctx):
+    ps.simulate(_arm(), np.zeros(2), np.zeros(2), (0.0, 1.0), t_eval=[0.0, np.nan, 1.0])
+
+
+@bad(LOOPS, "a mass made negative at run time: `with_parameters(m_link1=-0.1)`", InputError,
+     r"serial_2dof: parameter m_link1 must be > 0 kg \(got -0.1\)",
+     "serial_2dof: parameter m_link1 must be > 0 kg (got -0.1)", "tests/test_study_files.py")
+def runtime_negative_mass(ctx):
+    _arm().with_parameters(m_link1=-0.1)
+
+
+@bad(LOOPS, "an inertia in kg*mm^2 given as kg*m^2 at run time: `izz_link1=89.395`", InputError,
+     r"parameter izz_link1 = 89.395 kg\*m\^2 with m_link1 = 0.071 kg gives a radius of gyration",
+     "serial_2dof: parameter izz_link1 = 89.395 kg*m^2 with m_link1 = 0.071 kg gives a radius of "
+     "gyration of 3.548e+04 mm for a body whose points reach 62.7 mm from its centre of "
+     "gravity (more than 3 times); a unit or decimal-point slip?")
+def runtime_inertia_slip(ctx):
+    _arm().with_parameters(izz_link1=89.395)
+
+
+@bad(LOOPS, "gravity in mm/s^2 at run time: `with_parameters(g=9810)`", InputError,
+     r"parameter g must be from 0 to 300 m/s\^2 \(got 9810\); a unit slip\?",
+     "serial_2dof: parameter g must be from 0 to 300 m/s^2 (got 9810); a unit slip?")
+def runtime_gravity_slip(ctx):
+    _arm().with_parameters(g=9810.0)
+
+
+@bad(LOOPS, "`ps.load(3)`: not a name, file or folder", InputError,
+     r"a robot is a built-in name, a description file or a generated folder \(a str or Path\), "
+     r"got int", "a robot is a built-in name, a description file or a generated folder (a str "
+     "or Path), got int 3", "tests/test_never_silent.py")
+def load_not_a_path(ctx):
+    ps.load(3)
+
+
+@bad(LOOPS, "`simulate(arm, q0, qd0, 5)`: a time span that is one number", InputError,
+     r"time span must be two numbers \(t0, t1\) in s \(got 5\)",
+     "time span must be two numbers (t0, t1) in s (got 5)")
+def span_one_number(ctx):
+    ps.simulate(_arm(), np.zeros(2), np.zeros(2), 5)
+
+
+@bad(LOOPS, "a torque function that returns text", InputError,
+     r"torque function returned something that is not numbers at t = 0 s",
+     "torque function returned something that is not numbers at t = 0 s (could not convert "
+     "string to float: 'x')")
+def torque_text(ctx):
+    ps.simulate(_arm(), np.zeros(2), np.zeros(2), (0.0, 1.0), torque=lambda t: "x")
+
+
+# -- study files ------------------------------------------------------------------------------------
+
+STUDY_OK = """
+robot = "serial_2dof"
+kind = "inverse"
+[units]
+length = "mm"
+[motion]
+space = "task"
+start = [100.0, 100.0]
+by = [-200.0, 0.0]
+duration = 5.0
+"""
+
+
+def _study(ctx, text: str):
+    from planar_sym.study.run import run
+
+    path = ctx.tmp / "study.toml"
+    path.write_text(text)
+    return run(path)
+
+
+@bad(STUDY, "a study with a typo, an unknown unit and a negative duration: all reported at once",
+     InputError, r"study.toml: colour: unknown key(.|\n)*units.length: unknown length unit "
+     r"'furlong'(.|\n)*motion.duration: must be > 0 \(got -5\)",
+     "invalid study:\n  study.toml: colour: unknown key (known: kind, motion, notes, outputs, "
+     "parameters, robot, simulation, title, units)\n  study.toml: units.length: unknown length "
+     "unit 'furlong'; known: m, cm, mm (got 'furlong')\n  study.toml: motion.duration: must be "
+     "> 0 (got -5)", "tests/test_study_files.py::test_every_problem_of_a_study_at_once")
+def study_three_problems(ctx):
+    _study(ctx, 'colour = "red"\n' + STUDY_OK.replace('"mm"', '"furlong"').replace(
+        "duration = 5.0", "duration = -5"))
+
+
+@bad(STUDY, "an inverse-dynamics study without its `[motion]` table", InputError,
+     r"study.toml: motion: missing table \[motion\]",
+     "invalid study:\n  study.toml: motion: missing table [motion]")
+def study_no_motion(ctx):
+    _study(ctx, 'robot = "serial_2dof"\nkind = "inverse"\n')
+
+
+@bad(STUDY, "an unknown profile", InputError,
+     r"motion.profile: must be one of cubic, quintic, trapezoid, via, table \(got 'zigzag'\)",
+     "invalid study:\n  study.toml: motion.profile: must be one of cubic, quintic, trapezoid, "
+     "via, table (got 'zigzag')")
+def study_unknown_profile(ctx):
+    _study(ctx, STUDY_OK.replace('space = "task"', 'space = "task"\nprofile = "zigzag"'))
+
+
+@bad(STUDY, "an unknown parameter in `[parameters]`", InputError,
+     r"parameters.m_motr2: not a parameter of serial_2dof \(known: g, m_link1, ",
+     "study.toml: parameters.m_motr2: not a parameter of serial_2dof (known: g, m_link1, ...)",
+     "tests/test_study_files.py")
+def study_unknown_parameter(ctx):
+    _study(ctx, STUDY_OK + "[parameters]\nm_motr2 = 0.5\n")
+
+
+@bad(STUDY, "a parameter with a unit of the wrong kind: `m_link1 = \"71 mm\"`", InputError,
+     r"parameters.m_link1: unknown mass unit 'mm'; known: kg, g for a mass \(got 'mm'\)",
+     "study.toml: parameters.m_link1: unknown mass unit 'mm'; known: kg, g for a mass (got 'mm')")
+def study_wrong_unit(ctx):
+    _study(ctx, STUDY_OK + "[parameters]\nm_link1 = \"71 mm\"\n")
+
+
+@bad(STUDY, "a start with 3 values for a robot with a 2-coordinate task", InputError,
+     r"motion.start: serial_2dof needs 2 values, one per task coordinates \(x, y\) \(got 3\)",
+     "study.toml: motion.start: serial_2dof needs 2 values, one per task coordinates (x, y) "
+     "(got 3)")
+def study_start_width(ctx):
+    _study(ctx, STUDY_OK.replace("[100.0, 100.0]", "[100.0, 100.0, 0.0]").replace(
+        "[-200.0, 0.0]", "[-200.0, 0.0, 0.0]"))
+
+
+@bad(STUDY, "a closed chain's initial state off its loops in a forward study", InputError,
+     r"simulation.q0 does not close the loop at cut joint C: the joint's two points are "
+     r"[0-9.]+ mm apart \(limit 1e-06 mm\); give the actuated joints only \(2 values\)",
+     "study.toml: simulation.q0 does not close the loop at cut joint C: the joint's two points "
+     "are 2.62 mm apart (limit 1e-06 mm); give the actuated joints only (2 values) and the "
+     "loops give the rest", "tests/test_study_files.py")
+def study_q0_off_loops(ctx):
+    _study(ctx, 'robot = "five_bar_type2"\nkind = "forward"\n[units]\nangle = "deg"\n'
+                '[simulation]\nq0 = [0.0, 90.0, 92.0, 90.0]\nduration = 0.2\n')
+
+
+@bad(STUDY, "a study naming a robot that does not exist", LibraryError,
+     r"unknown robot 'no_such_robot': not a built-in robot",
+     "unknown robot 'no_such_robot': not a built-in robot (five_bar_type1, ...), nor a "
+     "description file (.toml) or a generated folder (a path)")
+def study_unknown_robot(ctx):
+    _study(ctx, STUDY_OK.replace('"serial_2dof"', '"no_such_robot"'))
+
+
+@bad(CLI, "`planar-sym run STUDY --samples 10000000000`", CommandFailed,
+     r"^error: --samples must be an integer from 2 to 1000000 \(got 10000000000\)",
+     "error: --samples must be an integer from 2 to 1000000 (got 10000000000)",
+     "tests/test_cli_edges.py")
+def cli_absurd_samples(ctx):
+    _cli(ctx, "run", "serial_2dof_joint_move", "--samples", "10000000000", "--out",
+         str(ctx.tmp / "res"))
+
+
+@bad(CLI, "`planar-sym animate STUDY --frames 99999`", CommandFailed,
+     r"^error: --frames must be an integer from 2 to 2000 \(got 99999\)",
+     "error: --frames must be an integer from 2 to 2000 (got 99999)")
+def cli_absurd_frames(ctx):
+    _cli(ctx, "animate", "serial_2dof_joint_move", "--frames", "99999", "--out",
+         str(ctx.tmp / "a.gif"))
+
+
+@bad(CLI, "`planar-sym run STUDY --out results.txt` where that is a file", CommandFailed,
+     r"^error: --out .*results.txt is a file, not a folder",
+     "error: --out results.txt is a file, not a folder", "tests/test_cli_edges.py")
+def cli_out_is_a_file(ctx):
+    target = ctx.tmp / "results.txt"
+    target.write_text("mine")
+    _cli(ctx, "run", "serial_2dof_joint_move", "--out", str(target))
+
+
+@bad(CLI, "`planar-sym validate ROBOT --description missing.toml`", CommandFailed,
+     r"^error: --description missing.toml: no such file",
+     "error: --description missing.toml: no such file")
+def cli_missing_description(ctx):
+    _cli(ctx, "validate", "serial_2dof", "--description", "missing.toml")
+
+
+@bad(CLI, "`planar-sym derive four_bar.toml --out DIR` where DIR/four_bar holds a file of yours",
+     CommandFailed, r"^error: .*four_bar holds files planar-sym did not write \(notes.txt\)",
+     "error: DIR/four_bar holds files planar-sym did not write (notes.txt): it is not replaced; "
+     "move them or choose another --out", "tests/test_cli_edges.py")
+def cli_derive_users_folder(ctx):
+    out = ctx.tmp / "out"
+    folder = out / "four_bar"
+    folder.mkdir(parents=True)
+    (folder / "manifest.json").write_text('{"files": {}}')
+    (folder / "notes.txt").write_text("my notes")
+    _cli(ctx, "derive", str(ROOT / "examples" / "four_bar.toml"), "--out", str(out),
+         "--no-build")
 
 
 # -- the test ---------------------------------------------------------------------------------------
