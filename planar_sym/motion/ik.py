@@ -123,7 +123,9 @@ def inverse_kinematics(robot: Robot, traj: Trajectory, *, solver: str = "auto",
     solved = len(q) if run is None or run.failed is None else run.failed
     N, zeros = len(t), np.zeros((len(t), robot.n_constraints))
     A = np.tile(np.eye(robot.n), (N, 1, 1))
-    A[:solved] = newton.stacked_jacobian(robot, q[:solved])
+    A[:solved], x_of_q = newton.stacked_jacobian(robot, q[:solved])
+    if run is not None:
+        newton.verify(fails, robot, q[:solved], x_of_q, x[:solved])
     cond = np.full(N, np.inf)
     cond[:solved] = np.linalg.cond(A[:solved])
     singular = _add_singular(fails, cond[:solved])

@@ -8,8 +8,9 @@ continued sample to sample from a start pose (default the drawn configuration), 
 and assembly modes are the start pose's. The loop over the samples runs in C (``_newton.c``)
 on the robot's compiled ``task``, ``constraint`` and ``constraint_jacobian`` functions; between
 samples it follows the straight line in task space, in shorter steps where Newton needs a large
-correction, so coarse sampling does not jump to another branch. After solving, every step is
-checked against the exact joint rates (``branch_check``).
+correction or would change the sign of det [Phi_q; J] (which happens only across a singular
+pose, where modes meet), so coarse sampling does not jump to another branch. After solving,
+every step is checked against the exact joint rates (``branch_check``).
 """
 
 from __future__ import annotations
@@ -25,13 +26,20 @@ from ..model.library import load_helper
 from ..model.robot import COND_LIMIT, Robot, as_vector
 from .failures import Failures
 
-#: converged when |F|_inf <= NEWTON_TOL * (1 + |x*|_inf) (m, rad): about 50 times the rounding
-#: of x(q) for these robots' sizes, so the angles are exact to ~1e-14 rad at a
-#: well-conditioned pose (measured against the closed forms: see tests/test_generic_ik.py)
+#: converged when |F|_inf <= NEWTON_TOL * (1 + |x*|_inf) (m, rad): a few hundred times the
+#: rounding of x(q) at these robots' sizes (~3e-17 m at 0.2 m), so the angles are exact to
+#: ~1e-15 rad at a well-conditioned pose (measured against the closed forms, worst 3e-15 rad
+#: where the closed form itself is accurate: tests/test_generic_ik.py)
 NEWTON_TOL = 1e-14
-#: a Newton correction larger than this (rad; m for a sliding joint) is not trusted: the step
-#: between targets is halved. Joint-space branches of these robots are >= ~0.5 rad apart
-#: away from singular poses (e.g. the 2-DOF elbow +-q2 with q2 >= 30 deg)
+#: ... or when a correction is below this (rad): the error left is then ~10 STEP_TOL^2 rad
+#: (quadratic convergence), and every solution's residual is checked afterwards (``verify``)
+STEP_TOL = 1e-9
+#: a solution is accepted when its task and loop residual, evaluated afterwards in one batch,
+#: is below this times (1 + |x*|_inf) (m, rad)
+VERIFY_TOL = 1e-12
+#: a Newton correction larger than this (rad) is not trusted: the step between targets is
+#: halved. Away from singular poses the branches are much further apart (the 2-DOF elbow's
+#: +-q2 are 1 rad apart at q2 = 30 deg); near one, the sign of det [Phi_q; J] keeps the branch
 DQ_MAX = 0.1
 #: corrections must shrink at least this fast (|dq_i| <= THETA |dq_i-1|) or the step is halved:
 #: inside Newton's basin they shrink quadratically (ratios of 1e-3 and less)
@@ -99,21 +107,34 @@ class NewtonRun:
     halvings: int
 
 
-def stacked_jacobian(robot: Robot, q: np.ndarray) -> np.ndarray:
-    """[Phi_q; J] at each sample, shape (N, n, n)."""
+def stacked_jacobian(robot: Robot, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """[Phi_q; J] at each sample, shape (N, n, n), and the task coordinates x(q), (N, n_task)."""
     N = len(q)
-    _, J, _ = robot.task(q)
+    x, J, _ = robot.task(q)
     J = J.reshape(N, len(robot.task_names), robot.n)
     if robot.is_closed_chain:
         J = np.concatenate([robot.constraint_jacobian(q).reshape(N, -1, robot.n), J], axis=1)
-    return J
+    return J, np.asarray(x).reshape(N, -1)
+
+
+def verify(fails: Failures, robot: Robot, q: np.ndarray, x_of_q: np.ndarray,
+           target: np.ndarray) -> None:
+    """Record solutions whose residual |[Phi(q); x(q) - x*]|_inf exceeds VERIFY_TOL (1 + |x*|):
+    the C loop stops on small corrections without evaluating the last one."""
+    res = np.max(np.abs(x_of_q - target), axis=1) if len(q) else np.zeros(0)
+    if robot.is_closed_chain and len(q):
+        res = np.maximum(res, np.max(np.abs(robot.constraint(q).reshape(len(q), -1)), axis=1))
+    limit = VERIFY_TOL * (1 + np.max(np.abs(target), axis=1)) if len(q) else res
+    fails.add(~(res <= limit), lambda k: (
+        f"is missed by the solution found (|F| = {res[k]:.3g} after Newton, limit "
+        f"{limit[k]:.3g}): the pose is too ill-conditioned to solve accurately"))
 
 
 def start_pose(robot: Robot, q_start) -> np.ndarray:
     """The start pose (rad), default the drawn configuration; refused where it is singular,
     as it then does not choose a working mode."""
     q0 = as_vector("q_start", robot.q_drawn if q_start is None else q_start, robot.n)
-    cond = float(np.linalg.cond(stacked_jacobian(robot, q0[None])[0]))
+    cond = float(np.linalg.cond(stacked_jacobian(robot, q0[None])[0][0]))
     if not (cond <= COND_LIMIT):
         what = "drawn configuration" if q_start is None else "start pose"
         raise WorkspaceError(
@@ -142,7 +163,7 @@ def solve(robot: Robot, t: np.ndarray, x: np.ndarray, q_start=None) -> NewtonRun
     lib = robot.library
     t = np.ascontiguousarray(t, dtype=float)
     x = np.ascontiguousarray(x, dtype=float)
-    opts = np.array([NEWTON_TOL, DQ_MAX, THETA, MAX_ITER, MIN_FRACTION])
+    opts = np.array([NEWTON_TOL, DQ_MAX, THETA, MAX_ITER, MIN_FRACTION, STEP_TOL])
     q = np.full((N, n), np.nan)
     info = np.zeros(5)
     k_fail = ctypes.c_longlong(-1)
@@ -172,7 +193,7 @@ def report_failure(fails: Failures, robot: Robot, run: NewtonRun) -> None:
     bad[k] = True
     unit = "m, rad" if "phi" in robot.task_names else "m"
     origin = f"sample {k - 1}" if k else "the start pose"
-    cond = float(np.linalg.cond(stacked_jacobian(robot, run.closest[None])[0]))
+    cond = float(np.linalg.cond(stacked_jacobian(robot, run.closest[None])[0][0]))
     edge = (f", a singular pose ([Phi_q; J] condition number {cond:.3g} > {COND_LIMIT:g}): the "
             "target is at or beyond the edge of the workspace" if not cond <= COND_LIMIT else "")
     fails.add(bad, lambda _: (
