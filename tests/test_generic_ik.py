@@ -145,6 +145,23 @@ def test_unreachable_target():
     # the same move stopped short of the edge is fine
     inverse_kinematics(robot, ps.cubic([0.1, 0.1], [0.04, 0.0], T, TIMES), solver="newton",
                        q_start=START["serial_2dof"])
+    # unreachable from the first sample on: named there, reached from the start pose
+    far = ps.cubic([0.3, 0.1], [0.01, 0.0], T, TIMES)
+    with pytest.raises(WorkspaceError, match="on the way from the start pose") as exc:
+        inverse_kinematics(robot, far, solver="newton", q_start=START["serial_2dof"])
+    assert _named(str(exc.value)) == (0, 0.0)
+
+
+def test_start_pose_off_the_loops():
+    """A closed chain's start pose only picks the assembly mode: 0.01 rad off every joint
+    (the loops open by millimetres), Newton closes them and S5 is the closed form's."""
+    robot = ps.load("five_bar_type1")
+    traj = ps.cubic([0.060852, 0.154665], [0.05, 0.0], 2.0, np.linspace(0.0, 2.0, 41))
+    start = robot.q_drawn + 0.01
+    assert np.max(np.abs(robot.constraint(start))) > 1e-4
+    gen = inverse_kinematics(robot, traj, solver="newton", q_start=start)
+    seed = inverse_kinematics(robot, traj, solver="seed")
+    assert np.max(np.abs(gen.q - seed.q)) < AGREE_RAD
 
 
 def test_closed_chain_unreachable_names_the_first_sample():

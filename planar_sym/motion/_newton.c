@@ -136,10 +136,12 @@ static int jacobian(Problem *pr, const double *q, const double *J, double *A) {
  * |dq| <= 1e-9 rad; this spares the evaluation that would only confirm it (the caller checks
  * every solution's residual afterwards, in one batch).
  *
- * Every iterate, the solution included, must keep the sign of det [Phi_q; J] of the start
- * pose: the sign changes only across a singular pose, where working or assembly modes meet
- * (the 2-DOF arm's det J = a1 a2 sin q2), and near one the two branches are closer than any
- * step limit, so this is what keeps Newton on its branch there. */
+ * Every evaluated iterate must keep the sign of det [Phi_q; J] of the start pose: the sign
+ * changes only across a singular pose, where working or assembly modes meet (the 2-DOF arm's
+ * det J = a1 a2 sin q2), and near one the two branches are closer than any step limit, so this
+ * is what keeps Newton on its branch there. (A solution accepted on a small correction lies
+ * within step_tol of an evaluated iterate: a singular pose that close has a condition number
+ * far above COND_LIMIT, which the caller refuses.) */
 static int newton(Problem *pr, double *q, const double *target) {
     int n = pr->n, sign;
     double F[MAXN], J[MAXN * MAXN], A[MAXN * MAXN], prev = INFINITY;
@@ -156,8 +158,8 @@ static int newton(Problem *pr, double *q, const double *target) {
         pr->iterations++;
         double step = norm_inf(n, F);
         if (!(step <= pr->dq_max)) return NO_CONVERGENCE;  /* NaN too */
-        /* contraction is judged only above rounding: at 1e-12 rad the steps are noise */
-        if (step > pr->theta * prev && step > 1e-12) return NO_CONVERGENCE;
+        /* not contracting: outside Newton's basin (a correction this small ends the loop) */
+        if (step > pr->step_tol && step > pr->theta * prev) return NO_CONVERGENCE;
         prev = step;
         for (int i = 0; i < n; ++i) q[i] += F[i];
         if (step <= pr->step_tol) return OK;

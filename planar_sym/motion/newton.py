@@ -90,7 +90,8 @@ class NewtonRun:
     """Positions of the solved samples and what the C loop reports.
 
     ``q`` (N, n) rad: rows from ``failed`` on are NaN; ``failed`` is the first sample not
-    solved (None: all), ``code`` its failure (1 no convergence, 2 singular on the way),
+    solved (None: all), ``code`` why (1 no convergence, 2 exactly singular, 5 a singular pose
+    crossed: see ``_CODES``),
     ``closest`` (n,) the pose closest to it that was found, ``residual`` the |F|_inf (m, rad)
     there, ``reached`` the fraction of the last step solved; ``iterations`` (corrections),
     ``evaluations`` (of F) and ``halvings`` (of a step between targets): totals over the run.
@@ -109,12 +110,14 @@ class NewtonRun:
 
 def stacked_jacobian(robot: Robot, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """[Phi_q; J] at each sample, shape (N, n, n), and the task coordinates x(q), (N, n_task)."""
-    N = len(q)
+    N, n, nt = len(q), robot.n, len(robot.task_names)
+    if N == 0:  # nothing solved (the first sample failed)
+        return np.zeros((0, n, n)), np.zeros((0, nt))
     x, J, _ = robot.task(q)
-    J = J.reshape(N, len(robot.task_names), robot.n)
+    J = J.reshape(N, nt, n)
     if robot.is_closed_chain:
-        J = np.concatenate([robot.constraint_jacobian(q).reshape(N, -1, robot.n), J], axis=1)
-    return J, np.asarray(x).reshape(N, -1)
+        J = np.concatenate([robot.constraint_jacobian(q).reshape(N, -1, n), J], axis=1)
+    return J, np.asarray(x).reshape(N, nt)
 
 
 def verify(fails: Failures, robot: Robot, q: np.ndarray, x_of_q: np.ndarray,
