@@ -24,8 +24,7 @@ def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
         from ..motion.ik import inverse_kinematics
 
         q_start = start_pose(st, robot)
-        kw = {} if m.ik == "auto" and q_start is None else {"solver": m.ik, "q_start": q_start}
-        jt = inverse_kinematics(robot, tr, **kw)  # TODO(helper-1 lands): always pass both
+        jt = inverse_kinematics(robot, tr, solver=m.ik, q_start=q_start)
         return jt, tr.x
     if robot.is_closed_chain:
         from ..motion.closure import from_actuated
