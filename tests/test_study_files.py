@@ -102,8 +102,6 @@ by = [90.0]
 duration = 1.0
 samples = 101
 """)
-    if not hasattr(__import__("planar_sym.motion", fromlist=["x"]), "smooth"):
-        pytest.skip("quintic profile not available")
     result = run(study)
     four = ps.load(EXAMPLES / "four_bar.toml")
     q = np.column_stack([result.columns[f"q{k}_rad"] for k in range(1, four.n + 1)])

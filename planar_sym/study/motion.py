@@ -111,35 +111,87 @@ def channel_scale(st: specs.Study, robot: Robot) -> np.ndarray:
 
 def trajectory(st: specs.Study, robot: Robot, samples: int | None = None) -> Trajectory:
     """The study's motion profile at its evenly spaced samples, in SI."""
-    return profile_at(st, robot, np.linspace(0.0, duration(st, robot), samples or st.motion.samples))
+    t0, t1 = span(st, robot)
+    return profile_at(st, robot, np.linspace(t0, t1, samples or st.motion.samples))
+
+
+def span(st: specs.Study, robot: Robot) -> tuple[float, float]:
+    """First and last time (s) of the motion: from 0 to its duration, which is given or set by
+    the profile (the via points' last time, the table's rows, the trapezoid's limits)."""
+    m = st.motion
+    if m.duration_s is not None:
+        return 0.0, m.duration_s
+    if m.profile == "via":
+        return 0.0, m.times_s[-1]
+    if m.profile == "table":
+        times, _ = _table(st, robot)
+        return float(times[0]), float(times[-1])
+    from ..motion.smooth import trapezoid_duration
+
+    start, by = _start_and_by(st, robot)
+    return 0.0, trapezoid_duration(by, np.array(m.v_max) * channel_scale(st, robot),
+                                   np.array(m.a_max) * channel_scale(st, robot))
 
 
 def duration(st: specs.Study, robot: Robot) -> float:
-    """The motion's duration (s): given, or set by the profile (via points, table, trapezoid)."""
-    m = st.motion
-    if m.duration_s is not None:
-        return m.duration_s
-    return float(profile_at(st, robot, None).t_s[-1])
+    """The motion's duration (s)."""
+    t0, t1 = span(st, robot)
+    return t1 - t0
+
+
+def _what(st: specs.Study, robot: Robot) -> str:
+    if st.motion.space == "task":
+        return "task coordinates (" + ", ".join(robot.task_names) + ")"
+    return "actuated joints" if robot.is_closed_chain else "joints"
+
+
+def _start_and_by(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
+    m, scale = st.motion, channel_scale(st, robot)
+    check_width(st, "motion.start", m.start, len(scale), _what(st, robot))
+    start = np.array(m.start) * scale
+    return start, (np.array(m.by) * scale if m.by is not None else np.array(m.end) * scale - start)
+
+
+def table_columns(st: specs.Study, robot: Robot) -> list[list[str]]:
+    """The CSV columns a table motion needs, each with the unit suffixes it may carry."""
+    if st.motion.space == "task":
+        return [[f"{n}_rad", f"{n}_deg"] if n == "phi" else [f"{n}_mm", f"{n}_m"]
+                for n in robot.task_names]
+    coords = robot.actuated if robot.is_closed_chain else range(robot.n)
+    return [[f"q{i + 1}_rad", f"q{i + 1}_deg"] for i in coords]
+
+
+def _table(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
+    from ..motion.tables import read_table
+
+    return read_table(st.motion.table, table_columns(st, robot))
 
 
 def profile_at(st: specs.Study, robot: Robot, t: np.ndarray | None) -> Trajectory:
-    """The study's motion profile at times ``t`` (s), in SI; ``t = None``: at its own knots."""
+    """The study's motion profile at times ``t`` (s), in SI; ``t = None``: at its ends."""
     m = st.motion
+    if t is None:
+        t = np.array(span(st, robot))
+    if m.profile == "via":
+        from ..motion.splines import via
+
+        check_width(st, "motion.points[0]", m.points[0], len(channel_scale(st, robot)),
+                    _what(st, robot))
+        return via(m.times_s, np.array(m.points) * channel_scale(st, robot), t)
+    if m.profile == "table":
+        from ..motion.splines import table
+
+        return table(*_table(st, robot), t)
+    start, by = _start_and_by(st, robot)
+    if m.profile == "cubic":  # the seed's coeff_3rd, bit for bit
+        return cubic(start, by, m.duration_s, t)
+    from ..motion.smooth import quintic, trapezoid
+
+    if m.profile == "quintic":
+        return quintic(start, by, m.duration_s, t)
     scale = channel_scale(st, robot)
-    what = ("task coordinates (" + ", ".join(robot.task_names) + ")" if m.space == "task" else
-            "actuated joints" if robot.is_closed_chain else "joints")
-    if m.profile in ("cubic", "quintic", "trapezoid"):
-        check_width(st, "motion.start", m.start, len(scale), what)
-        start = np.array(m.start) * scale
-        by = (np.array(m.by) * scale if m.by is not None
-              else np.array(m.end) * scale - start)
-        if m.profile == "cubic":  # the seed's form, bit for bit
-            return cubic(start, by, m.duration_s, np.array([0.0, m.duration_s]) if t is None else t)
-    return _profile(m, scale, t)
-
-
-def _profile(m: specs.Motion, scale: np.ndarray, t) -> Trajectory:
-    raise InputError(f"profile {m.profile!r} is not available yet")
+    return trapezoid(start, by, t, v_max=np.array(m.v_max) * scale,
+                     a_max=np.array(m.a_max) * scale, duration_s=m.duration_s)
 
 
 def check_width(st, fld: str, values, width: int, what: str) -> None:
