@@ -23,7 +23,10 @@ from .to_casadi import Translator
 
 GENERATOR = "planar-sym derive (derive/codegen.py)"
 ROOT = Path(__file__).resolve().parent.parent
-#: sources whose change can change the generated files: they are part of the input hash
+#: this package's folder: derive/ in a checkout, planar_sym/_derive once installed
+DERIVE_DIR = Path(__file__).resolve().parent
+#: sources whose change can change the generated files: they are part of the input hash,
+#: named by their path in a checkout wherever they are (so an install hashes the same)
 HASHED_SOURCES = ("planar_sym/model/description.py", "planar_sym/model/units.py")
 
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
@@ -55,8 +58,12 @@ def input_hash(desc: Description) -> str:
     """sha256 over the description, the derive sources and the derive toolchain versions."""
     h = hashlib.sha256()
     parts = [("description", desc.path.read_bytes())]
-    sources = sorted((ROOT / "derive").glob("*.py")) + [ROOT / s for s in HASHED_SOURCES]
-    parts += [(p.relative_to(ROOT).as_posix(), p.read_bytes()) for p in sources]
+    from planar_sym.model import units
+
+    runtime = Path(units.__file__).resolve().parents[1]  # the installed planar_sym
+    parts += [(f"derive/{p.name}", p.read_bytes()) for p in sorted(DERIVE_DIR.glob("*.py"))]
+    parts += [(s, (runtime / s.removeprefix("planar_sym/")).read_bytes())
+              for s in HASHED_SOURCES]
     parts += [("sympy", sp.__version__.encode()), ("casadi", ca.__version__.encode())]
     for label, data in parts:
         h.update(f"{label}\0{len(data)}\0".encode())

@@ -51,6 +51,8 @@ def imports(path: Path, known: set[str]) -> set[str]:
         else:
             continue
         for t in targets:  # the deepest known module each import names
+            if t.startswith("planar_sym._derive"):  # derive/, as installed inside the package
+                t = "derive" + t.removeprefix("planar_sym._derive")
             while t and t not in known:
                 t = t.rpartition(".")[0]
             if t and t != name:

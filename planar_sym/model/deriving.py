@@ -17,17 +17,17 @@ def derive_modules():
         import sympy  # noqa: F401  (checked first: derive may be imported already in-process)
     except ImportError:
         raise PlanarSymError(NEEDS_SYMPY) from None
-    try:
-        import derive.__main__ as derive_main
+    try:  # installed: the build-time package ships inside planar_sym, not as a top-level `derive`
+        import planar_sym._derive.__main__ as derive_main
     except ModuleNotFoundError as exc:
-        if exc.name != "derive":
+        if exc.name not in ("planar_sym._derive", "planar_sym._derive.__main__"):
             raise PlanarSymError(f"deriving needs {exc.name!r}, which is missing ({exc})") from None
         derive_main = _from_source_checkout()
     return derive_main
 
 
 def _from_source_checkout():
-    # an editable install maps only the planar_sym package; derive/ sits beside it in a checkout
+    # run from a checkout without an install: derive/ sits beside planar_sym/
     root = Path(__file__).resolve().parents[2]
     if not (root / "derive" / "__init__.py").is_file():
         raise PlanarSymError("deriving needs the build-time `derive` package, which is not "
