@@ -287,8 +287,9 @@ def drawing_figure(robot_name: str, q=None):
 
     Parameters
     ----------
-    robot_name : str
-        A built-in robot (or one on ``PLANAR_SYM_GENERATED``).
+    robot_name : str or Path
+        A built-in robot (or one on ``PLANAR_SYM_GENERATED``), a description file or a
+        generated folder.
     q : array_like, shape (n,), optional
         Every coordinate (rad).
 
@@ -300,8 +301,13 @@ def drawing_figure(robot_name: str, q=None):
     from ..model.locate import load
     from .plots import new_figure, tight
 
-    desc = load_description(robot_name)  # first: names the known robots if this is not one
-    robot = load(robot_name)
+    robot = load(robot_name)  # a built-in name, a description file or a generated folder
+    if robot.description_file is None:
+        from ..errors import InputError
+
+        raise InputError(f"{robot_name}: no description at hand to draw it (the generated "
+                         "folder has no description.toml); draw the description file instead")
+    desc = load_description(robot.description_file)
     which = "drawn configuration" if q is None else "configuration"
     q = robot.q_drawn if q is None else np.asarray(q, dtype=float)
     geo = geometry(desc, robot.body_names, robot.frames(q[None, :]))
