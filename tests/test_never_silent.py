@@ -100,6 +100,7 @@ ARM = "serial_2dof"
                               [[0, 0]]), r"t has 2 times for 1 samples of q_act"),
     (lambda: ps.plot(None), r"plot takes a study Result"),
     (lambda: ps.validate(None), r"validate needs a Robot"),
+    (lambda: ps.inverse_kinematics(ps.load(ARM), None), r"inverse_kinematics needs a Trajectory"),
 ])
 def test_the_python_api_raises_its_own_errors(call, message):
     with pytest.raises(ps.PlanarSymError, match=message):

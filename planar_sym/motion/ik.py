@@ -102,6 +102,9 @@ def inverse_kinematics(robot: Robot, traj: Trajectory, *, solver: str = "auto",
         A target out of reach, a singular pose, a step onto another branch (each naming the
         time, sample and target), or a robot whose task does not fix its coordinates.
     """
+    if not isinstance(traj, Trajectory):
+        raise InputError(f"inverse_kinematics needs a Trajectory of the task (planar_sym.cubic "
+                         f"and the motion profiles make one), got {type(traj).__name__}")
     which = choose_solver(robot, solver, q_start)
     newton.check_square(robot)
     t = np.asarray(traj.t_s, dtype=float).reshape(-1)
