@@ -27,7 +27,8 @@ ROOT = Path(__file__).resolve().parent.parent
 DERIVE_DIR = Path(__file__).resolve().parent
 #: sources whose change can change the generated files: they are part of the input hash,
 #: named by their path in a checkout wherever they are (so an install hashes the same)
-HASHED_SOURCES = ("planar_sym/model/description.py", "planar_sym/model/units.py")
+HASHED_SOURCES = ("planar_sym/model/description.py", "planar_sym/model/assembly.py",
+                  "planar_sym/model/units.py")
 
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix

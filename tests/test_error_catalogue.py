@@ -156,9 +156,9 @@ def unknown_key(ctx):
 
 
 @bad(DESC, "unknown top-level table `[colours]`", DescriptionError,
-     r"bad\.toml: colours: unknown key \(known: bodies, gravity, ground, joints, name, notes, "
+     r"bad\.toml: colours: unknown key \(known: assemble, bodies, gravity, ground, joints, name, notes, "
      r"symbols, task, title, units\)",
-     "bad.toml: colours: unknown key (known: bodies, gravity, ground, joints, name, notes, "
+     "bad.toml: colours: unknown key (known: assemble, bodies, gravity, ground, joints, name, notes, "
      "symbols, task, title, units)")
 def unknown_table(ctx):
     _desc(ctx, SERIAL, ("[ground]", "[colours]\nlink1 = \"red\"\n\n[ground]"))
@@ -362,7 +362,8 @@ def loop_not_cut(ctx):
      r"bad\.toml: joints \(C\): loop does not close in the drawn configuration: L_Link2\.CS2 and "
      r"R_Link2\.CS2 are 1 mm apart \(tolerance 0\.01 mm\)",
      "bad.toml: joints (C): loop does not close in the drawn configuration: L_Link2.CS2 and "
-     "R_Link2.CS2 are 1 mm apart (tolerance 0.01 mm)", TD + "test_loop_that_does_not_close")
+     "R_Link2.CS2 are 1 mm apart (tolerance 0.01 mm); set assemble = true to let planar-sym "
+     "close it from this pose", TD + "test_loop_that_does_not_close")
 def open_loop(ctx):
     _desc(ctx, FIVE_BAR, ("CS2 = [0.037, 0.140] }\nframe", "CS2 = [0.038, 0.140] }\nframe"))
 
@@ -422,6 +423,18 @@ def unknown_symbol(ctx):
      "serial_2dof, serial_3dof")
 def unknown_builtin(ctx):
     description.load("six_bar")
+
+
+@bad(DESC, "`assemble = true` with a coupler too short to reach the rocker", DescriptionError,
+     r"bad\.toml: joints \(B\): loop B cannot be closed from the given pose: its points stay "
+     r"[0-9.]+ mm apart",
+     "bad.toml: joints (B): loop B cannot be closed from the given pose: its points stay 5.23 mm "
+     "apart (the links cannot reach, or the pose is far from an assembled one)",
+     "tests/test_assembly.py")
+def assemble_impossible(ctx):
+    text = (ROOT / "examples" / "four_bar.toml").read_text()
+    text = text.replace('name = "four_bar"', 'name = "four_bar"\nassemble = true')
+    _desc(ctx, text, ("B = [133.880965996, 72.471236661], P", "B = [22.0, 36.0], P"))
 
 
 # -- runtime arrays and parameters ----------------------------------------------------------------

@@ -43,7 +43,8 @@ GYRATION_LIMIT = 3.0
 ZERO_SNAP_M = 1e-12
 
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-_TOP_KEYS = {"name", "title", "units", "gravity", "ground", "bodies", "joints", "task", "symbols", "notes"}
+_TOP_KEYS = {"name", "title", "units", "gravity", "ground", "bodies", "joints", "task", "symbols",
+             "notes", "assemble"}
 _UNIT_KEYS = {"length", "mass", "inertia", "angle", "acceleration"}
 _BODY_KEYS = {"name", "mass", "izz", "cg", "cg_from", "points", "frame", "notes"}
 _JOINT_KEYS = {"name", "type", "parent", "child", "actuated", "closes_loop", "notes"}
@@ -103,6 +104,8 @@ class Description:
     task_point: tuple[str, str]
     task_orientation: str | None
     display: dict[str, str] = field(default_factory=dict)
+    #: what ``assemble = true`` changed (model.assembly.Assembly), None otherwise
+    assembly: object = None
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -242,8 +245,16 @@ class _Validator:
                   if (j := self._joint(i, raw, bodies)) is not None]
         before = len(self.problems)
         tree, loops = self._tree(joints, bodies)
+        assemble = d.get("assemble", False)
+        if not isinstance(assemble, bool):
+            self.err("assemble", f"must be true or false (got {assemble!r})")
+            assemble = False
+        assembly = None
         if not duplicate and len(self.problems) == before:
-            self._closure(joints, bodies)
+            if assemble:
+                bodies, assembly = self._assemble(tree, loops, bodies)
+            else:
+                self._closure(joints, bodies)
         task = self._task(d.get("task"), bodies)
         display = d.get("symbols", {})
         if not isinstance(display, dict) or not all(isinstance(v, str) for v in display.values()):
@@ -253,7 +264,7 @@ class _Validator:
             raise DescriptionError(self.problems)
         desc = Description(name, str(d.get("title", name)), self.path, self.sha,
                            gravity, bodies, tuple(tree), tuple(loops), task[0], task[1],
-                           dict(display))
+                           dict(display), assembly)
         unknown = sorted(set(display) - {p.name for p in desc.parameters()})
         for key in unknown:
             self.err(f"symbols.{key}", "not a parameter of this robot")
@@ -497,7 +508,23 @@ class _Validator:
                 self.err(f"joints ({j.name})",
                          f"{what} does not close in the drawn configuration: "
                          f"{j.parent}.{j.parent_point} and {j.child}.{j.child_point} are "
-                         f"{gap * 1e3:.6g} mm apart (tolerance {CLOSURE_TOLERANCE_M * 1e3:g} mm)")
+                         f"{gap * 1e3:.6g} mm apart (tolerance {CLOSURE_TOLERANCE_M * 1e3:g} mm)"
+                         + ("; set assemble = true to let planar-sym close it from this pose"
+                            if j.closes_loop else ""))
+
+    def _assemble(self, tree, loops, bodies: dict[str, Body]):
+        """The loops closed numerically from the given (approximate) pose; see model.assembly."""
+        from .assembly import assemble
+
+        if not loops:
+            self.err("assemble", "the robot has no loop (no joint with closes_loop = true) to "
+                                 "assemble")
+            return bodies, None
+        placed, result = assemble(bodies, tree, loops)
+        if placed is None:
+            self.err(f"joints ({result.split()[1]})", result)
+            return bodies, None
+        return placed, result
 
     def _task(self, t, bodies) -> tuple[tuple[str, str], str | None]:
         if not isinstance(t, dict):
