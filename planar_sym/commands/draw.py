@@ -24,6 +24,12 @@ def run(args) -> int:
     save_drawing(args.robot, out, dpi=args.dpi)
     if not args.quiet:
         print(f"{args.robot}: wrote {out}")
+        if str(args.robot).endswith(".toml"):  # say what assembling the loops changed
+            from ..model.description import load as load_description
+
+            assembly = load_description(args.robot).assembly
+            if assembly is not None:
+                print(assembly.report())
     return 0
 
 
