@@ -17,9 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import WorkspaceError
-from ..model.robot import COND_LIMIT, Robot
-from ..motion.closure import _when, partition
+from ..model.robot import Robot
+from ..motion.closure import partition
 
 
 def actuation_matrix(robot: Robot, q: np.ndarray, t=None) -> np.ndarray:
@@ -31,21 +30,11 @@ def actuation_matrix(robot: Robot, q: np.ndarray, t=None) -> np.ndarray:
     act, pas = partition(robot)
     n_s, n = len(q), robot.n
     jac = robot.constraint_jacobian(q).reshape(n_s, robot.n_constraints, n)
-    _report_singular(robot, np.linalg.cond(jac[:, :, pas], 1), t)
+    robot.refuse_singular(np.linalg.cond(jac[:, :, pas], 1), t)
     a = np.zeros((n_s, n, n))
     a[:, act, np.arange(len(act))] = 1.0
     a[:, :, len(act):] = jac.transpose(0, 2, 1)
     return a
-
-
-def _report_singular(robot: Robot, cond: np.ndarray, t) -> None:
-    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise WorkspaceError(f"{robot.name}: singular pose at {_when(t, k)}: the passive-joint "
-                             f"constraint Jacobian Phi_p (which the actuation matrix "
-                             f"[S^T Phi_q^T] needs) has 1-norm condition number {cond[k]:.3g} "
-                             f"> {COND_LIMIT:g}")
 
 
 #: the parts of the torque split, in plotting order: name -> label in the plots

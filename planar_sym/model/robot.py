@@ -268,14 +268,19 @@ class Robot:
         out = self._closed_inverse_dynamics(q, qd, qdd)
         tau, lam, cond, phi, phi_v, phi_a = (np.asarray(a).reshape(len(q), -1) for a in out)
         self.check_on_loops(phi, phi_v, phi_a, qd, qdd, t)
-        bad = ~np.isfinite(cond[:, 0]) | (cond[:, 0] > COND_LIMIT)
+        self.refuse_singular(cond[:, 0], t)
+        return tau, lam
+
+    def refuse_singular(self, cond: np.ndarray, t=None) -> None:
+        """Refuse the first sample whose passive-joint constraint Jacobian Phi_p has a 1-norm
+        condition number ``cond`` above COND_LIMIT (or not finite), naming it."""
+        bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
         if bad.any():
             k = int(np.argmax(bad))
             raise WorkspaceError(f"{self.name}: singular pose at {_when(t, k)}: the passive-joint "
                                  f"constraint Jacobian Phi_p (which the actuation matrix "
                                  f"[S^T Phi_q^T] needs) has 1-norm condition number "
-                                 f"{cond[k, 0]:.3g} > {COND_LIMIT:g}")
-        return tau, lam
+                                 f"{cond[k]:.3g} > {COND_LIMIT:g}")
 
     def check_on_loops(self, phi, phi_v, phi_a, qd, qdd, t=None) -> None:
         """Refuse samples off the loop constraints, naming the first and its residual.
