@@ -161,8 +161,8 @@ def test_folder_is_never_missing_while_derive_swaps_it(tmp_path):
     out = tmp_path / "out"
     assert _derive(out).wait(timeout=120) == 0
     writer = subprocess.Popen(
-        [sys.executable, "-c", "import sys; from derive.__main__ import main\n"
-         "for _ in range(4): assert main(['serial_2dof', '--out', sys.argv[1], '--quiet']) == 0",
+        [sys.executable, "-c", ("import sys; from derive.__main__ import main\n"
+         "for _ in range(4): assert main(['serial_2dof', '--out', sys.argv[1], '--quiet']) == 0"),
          str(out)], cwd=ROOT, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
         text=True)
     polls, missing = 0, 0

@@ -29,8 +29,8 @@ def test_quintic_is_its_closed_form():
     for k in (0, -1):  # at rest, zero acceleration, at both ends
         assert np.max(np.abs(tr.xd[k])) < 1e-15 and np.max(np.abs(tr.xdd[k])) < 1e-14
     inner = t[2:-2]
-    pos = lambda tt: quintic([1.0, -1.0], [0.5, 2.0], 2.0, tt).x  # noqa: E731
-    vel = lambda tt: quintic([1.0, -1.0], [0.5, 2.0], 2.0, tt).xd  # noqa: E731
+    pos = lambda tt: quintic([1.0, -1.0], [0.5, 2.0], 2.0, tt).x
+    vel = lambda tt: quintic([1.0, -1.0], [0.5, 2.0], 2.0, tt).xd
     assert np.max(np.abs(central(pos, inner) - tr.xd[2:-2])) < 1e-9
     assert np.max(np.abs(central(vel, inner) - tr.xdd[2:-2])) < 1e-8
 
@@ -104,7 +104,7 @@ def write(tmp_path, text, name="t.csv"):
 
 
 def test_csv_reader_converts_units_and_names_every_problem(tmp_path):
-    t, v = read_table(write(tmp_path, "t_s,x_mm,phi_deg\n0,100,90\n1,200,180\n"),
+    _, v = read_table(write(tmp_path, "t_s,x_mm,phi_deg\n0,100,90\n1,200,180\n"),
                       [["x_mm", "x_m"], ["phi_rad", "phi_deg"]])
     np.testing.assert_allclose(v, [[0.1, np.pi / 2], [0.2, np.pi]], rtol=1e-15)
     bad = write(tmp_path, "t_s,x_mm\n0,1\n1,abc\n1,3\n0.5,2\n")

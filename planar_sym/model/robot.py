@@ -305,7 +305,7 @@ class Robot:
                 k = int(np.argmax(bad))
                 cut = self.loops[int(np.argmax(np.abs(residual[k]))) // 2]
                 raise InputError(
-                    f"{self.name}: sample {k}{' (t = %.6g s)' % t[k] if t is not None else ''} "
+                    f"{self.name}: sample {k}{f' (t = {t[k]:.6g} s)' if t is not None else ''} "
                     f"is off the loop constraints: |{what.split(' (')[0]}| = {worst[k]:.3g} "
                     f"{what.split('(')[1][:-1]} at cut joint {cut} (limit {limit[k]:.3g}); "
                     "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)")

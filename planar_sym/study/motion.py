@@ -128,7 +128,7 @@ def span(st: specs.Study, robot: Robot) -> tuple[float, float]:
         return float(times[0]), float(times[-1])
     from ..motion.smooth import trapezoid_duration
 
-    start, by = _start_and_by(st, robot)
+    _, by = _start_and_by(st, robot)
     return 0.0, trapezoid_duration(by, np.array(m.v_max) * channel_scale(st, robot),
                                    np.array(m.a_max) * channel_scale(st, robot))
 
