@@ -34,6 +34,10 @@ SUFFIXES = {"_s": 1.0, "_mm": 1e-3, "_m": 1.0, "_deg": math.pi / 180.0, "_rad": 
             "_n_m": 1.0, "_n": 1.0}
 
 
+#: problems listed in one error (the count says how many there are in all)
+MAX_LISTED = 20
+
+
 def to_si(column: str) -> float:
     """The SI factor of a column named with a unit suffix (the longest matching one).
 
@@ -78,11 +82,12 @@ def read_table(path: str | Path, columns: list[str] | list[list[str]]
         0.0, 100.0, 30.0           -> times_s[0] = 0.0,  values[0] = [0.1, 0.5236]
         0.5, 120.0, 35.0
 
-    Every problem is collected, then raised as one InputError listing them all, each naming
-    the file and, where it has one, the line and the column: a missing column (naming the
-    columns the header has), a repeated column name, a column without a unit suffix, a cell
-    that is not a number or is empty, a value that is not finite, a row with more cells than
-    the header, a time that repeats or goes back (naming both lines), fewer than 2 rows.
+    Every problem is collected, then raised as one InputError listing them (the first
+    ``MAX_LISTED``, then how many more), each naming the file and, where it has one, the line
+    and the column: a missing column (naming the columns the header has), a repeated column
+    name, a column without a unit suffix, a cell that is not a number or is empty, a value
+    that is not finite, a row with more cells than the header, a time that repeats or goes
+    back (naming both lines), fewer than 2 rows.
 
     Parameters
     ----------
@@ -165,8 +170,11 @@ def read_table(path: str | Path, columns: list[str] | list[list[str]]
                                 f"has {last[1]:g} s)")
             else:
                 last = (line, t)
+    if len(problems) == 1:
+        raise InputError(problems[0])
     if problems:
-        raise InputError(problems[0] if len(problems) == 1 else
-                         f"invalid table ({len(problems)} problems):\n  " + "\n  ".join(problems))
+        more = len(problems) - MAX_LISTED
+        listed = problems[:MAX_LISTED] + ([f"... and {more} more"] if more > 0 else [])
+        raise InputError(f"invalid table ({len(problems)} problems):\n  " + "\n  ".join(listed))
     arr = np.array(data, dtype=float) * np.array([to_si(c) for c in chosen])
     return arr[:, 0], arr[:, 1:]
