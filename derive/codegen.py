@@ -15,6 +15,7 @@ from pathlib import Path
 import casadi as ca
 import sympy as sp
 
+from planar_sym.model import units as _units
 from planar_sym.model.description import Description
 
 from . import simd
@@ -25,10 +26,14 @@ GENERATOR = "planar-sym derive (derive/codegen.py)"
 ROOT = Path(__file__).resolve().parent.parent
 #: this package's folder: derive/ in a checkout, planar_sym/_derive once installed
 DERIVE_DIR = Path(__file__).resolve().parent
+_RUNTIME = Path(_units.__file__).resolve().parents[1]  # the planar_sym in use
 #: sources whose change can change the generated files: they are part of the input hash,
-#: named by their path in a checkout wherever they are (so an install hashes the same)
-HASHED_SOURCES = ("planar_sym/model/description.py", "planar_sym/model/assembly.py",
-                  "planar_sym/model/units.py")
+#: named by their path in a checkout wherever they are (so an install hashes the same): every
+#: module of the description package (reading, validating, assembling) and the units
+HASHED_SOURCES = tuple(sorted(
+    [f"planar_sym/{p.relative_to(_RUNTIME).as_posix()}"
+     for p in (_RUNTIME / "model" / "description").glob("*.py")]
+    + ["planar_sym/model/units.py"]))
 
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix

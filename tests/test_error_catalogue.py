@@ -156,10 +156,10 @@ def unknown_key(ctx):
 
 
 @bad(DESC, "unknown top-level table `[colours]`", DescriptionError,
-     r"bad\.toml: colours: unknown key \(known: assemble, bodies, gravity, ground, joints, name, notes, "
-     r"symbols, task, title, units\)",
-     "bad.toml: colours: unknown key (known: assemble, bodies, gravity, ground, joints, name, notes, "
-     "symbols, task, title, units)")
+     r"bad\.toml: colours: unknown key \(known: assemble, bodies, gravity, ground, joints, name, "
+     r"notes, pose, symbols, task, title, units\)",
+     "bad.toml: colours: unknown key (known: assemble, bodies, gravity, ground, joints, name, "
+     "notes, pose, symbols, task, title, units)")
 def unknown_table(ctx):
     _desc(ctx, SERIAL, ("[ground]", "[colours]\nlink1 = \"red\"\n\n[ground]"))
 

@@ -60,15 +60,20 @@ def test_study_gives_the_scenario_numbers_exactly(name):
         scale = max(np.max(np.abs(reference)), 1e-300)
         # 0 when the scenario code was replaced (commit "Studies as data"); later changes to
         # the generated code (the fused closed-chain function gained its loop residuals)
-        # reorder rounding by an ulp or two
-        assert np.max(np.abs(values - reference)) / scale <= 1e-14, (new, old)
+        # reorder rounding by an ulp or two, and another CPU's vector libm (numpy 2.4 on an
+        # AVX-512 machine) moves the 3-RRR's cut forces by up to 1.7e-14 of their peak
+        assert np.max(np.abs(values - reference)) / scale <= 5e-14, (new, old)
         compared.add(old)
     expected = {k.split("/", 1)[1] for k in ref.files if k.startswith(f"{name}/")
                 and "/split_" not in k}
     assert compared == expected  # every old column is still there
+    # the split terms are measured against the largest of them: a term that is nearly zero
+    # (the velocity term of a slow move) carries the rounding of the others (5e-13 of its own
+    # peak on one machine, 1.5e-16 of the largest term)
+    peak = max([np.max(np.abs(ref[f"{name}/split_{part}"])) for part in result.split] + [1e-300])
     for part, values in result.split.items():
         reference = ref[f"{name}/split_{part}"]
-        assert np.max(np.abs(values - reference)) <= 1e-14 * max(np.max(np.abs(reference)), 1e-300)
+        assert np.max(np.abs(values - reference)) <= 1e-14 * peak, part
 
 
 def test_a_study_file_copied_elsewhere_runs_on_its_own(tmp_path):

@@ -1,0 +1,192 @@
+"""Placing bodies along the tree from joint angles, and closing the loops numerically, so that
+nobody has to solve circle intersections by hand (``pose = "joints"``, ``assemble = true``).
+
+Each body keeps its shape (its points in its own frame). The tree is placed from ground outward:
+a child's frame angle is its parent's plus the joint angle, and its joint point is put on the
+parent's. The loops are then closed by Gauss-Newton with minimum-norm steps on the cut joints'
+gaps, moving the passive joints' angles theta (the actuated ones keep the given angles):
+
+.. math::
+
+    g(\\theta) = [r_a - r_b]_{\\text{cut joints}},\\qquad
+    \\frac{\\partial (r_a - r_b)}{\\partial \\theta_k}
+        = [a \\in S_k]\\, (r_a - p_k)^{\\perp} - [b \\in S_k]\\, (r_b - p_k)^{\\perp},\\qquad
+    \\Delta\\theta = -J^{+} g
+
+with ``S_k`` the bodies beyond tree joint ``k``, ``p_k`` its position and ``(x, y)^perp =
+(-y, x)`` (an exact Jacobian: the iteration converges quadratically). Steps are limited to
+``MAX_STEP_RAD`` and halved until ``|g|`` decreases, so the iteration stays in the assembly mode
+of the given pose. The actuated joints never move: the angles a user gives them are the
+design's input, and a loop they put out of reach is refused (naming it), not closed by quietly
+turning a motor. numpy only: shared by derive and the runtime.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from .types import GROUND, Assembly, Body, Joint, wrap_angle
+
+#: the loops are closed to this gap (m), far below the 1e-5 m a typed pose must close to
+ASSEMBLY_TOL_M = 1e-12
+#: a step never turns a joint by more than this (rad): larger steps jump assembly modes
+MAX_STEP_RAD = 0.3
+MAX_ITER = 100
+
+
+def tree_angles(bodies: dict[str, Body], tree) -> dict[str, float]:
+    """Every tree joint's angle (child frame minus parent frame, rad) as the bodies are placed."""
+    return {j.name: bodies[j.child].drawn_angle_rad - bodies[j.parent].drawn_angle_rad
+            for j in tree}
+
+
+def place(bodies: dict[str, Body], tree, angles: dict[str, float]) -> dict[str, Body]:
+    """The bodies placed along the tree from ground.
+
+    Parameters
+    ----------
+    bodies : dict of str to Body
+        Shapes (body-frame points); the ground's placement is kept, the others' replaced.
+    tree : sequence of Joint
+        Tree joints, parents before children.
+    angles : dict of str to float
+        Every tree joint's angle (rad): child frame angle = parent frame angle + angle.
+    """
+    out = dict(bodies)
+    for j in tree:
+        parent = out[j.parent]
+        angle = parent.drawn_angle_rad + angles[j.name]
+        ax, ay = parent.world(parent.points_m[j.parent_point])
+        c, s = math.cos(angle), math.sin(angle)
+        lx, ly = out[j.child].points_m[j.child_point]
+        out[j.child] = replace(out[j.child], drawn_angle_rad=angle,
+                               drawn_origin_m=(ax - (c * lx - s * ly), ay - (s * lx + c * ly)))
+    return out
+
+
+def place_at(bodies: dict[str, Body], tree, q) -> dict[str, Body]:
+    """The bodies placed for coordinates ``q`` (revolute tree joints in order, rad); welds keep
+    their drawn relative angle. The forward kinematics the generated ``frames`` compute."""
+    angles, k = tree_angles(bodies, tree), 0
+    for j in tree:
+        if j.type == "revolute":
+            angles[j.name] = float(q[k])
+            k += 1
+    return place(bodies, tree, angles)
+
+
+def _point(bodies: dict[str, Body], body: str, point: str) -> np.ndarray:
+    return np.array(bodies[body].world(bodies[body].points_m[point]))
+
+
+def _gaps(bodies: dict[str, Body], loops) -> np.ndarray:
+    return np.concatenate([_point(bodies, j.parent, j.parent_point)
+                           - _point(bodies, j.child, j.child_point) for j in loops])
+
+
+def _beyond(tree) -> dict[str, set[str]]:
+    """Bodies moved by each tree joint: its child and everything hanging from it."""
+    out: dict[str, set[str]] = {}
+    for j in reversed(tree):  # children's sets are complete before their parents'
+        out[j.name] = {j.child}.union(*(out[k.name] for k in tree if k.parent == j.child))
+    return out
+
+
+def _jacobian(bodies, tree, loops, beyond, free) -> np.ndarray:
+    """d gaps / d angles of the joints ``free`` (exact, see the module docstring)."""
+    pivots = {j.name: _point(bodies, j.parent, j.parent_point) for j in tree}
+    jac = np.zeros((2 * len(loops), len(free)))
+    for r, cut in enumerate(loops):
+        a = _point(bodies, cut.parent, cut.parent_point)
+        b = _point(bodies, cut.child, cut.child_point)
+        for c, name in enumerate(free):
+            d = np.zeros(2)
+            if cut.parent in beyond[name]:
+                d += a - pivots[name]
+            if cut.child in beyond[name]:
+                d -= b - pivots[name]
+            jac[2 * r:2 * r + 2, c] = (-d[1], d[0])
+    return jac
+
+
+def _newton(bodies, tree, loops, start, free):
+    """Gauss-Newton from ``start`` moving the joints ``free``: (angles, placed, gaps, steps)."""
+    beyond = _beyond(tree)
+    angles = dict(start)
+    placed = place(bodies, tree, angles)
+    gap = _gaps(placed, loops)
+    steps = 0
+    while free and steps < MAX_ITER and np.max(np.abs(gap)) > 1e-3 * ASSEMBLY_TOL_M:
+        jac = _jacobian(placed, tree, loops, beyond, free)
+        step = np.linalg.lstsq(jac, -gap, rcond=None)[0]  # minimum norm: least motion
+        step *= min(1.0, MAX_STEP_RAD / max(np.max(np.abs(step)), 1e-300))
+        norm, t = np.linalg.norm(gap), 1.0
+        while t > 1e-6:  # halve until the gap shrinks: no overshoot into another mode
+            trial = dict(angles)
+            for c, name in enumerate(free):
+                trial[name] += t * step[c]
+            trial_placed = place(bodies, tree, trial)
+            trial_gap = _gaps(trial_placed, loops)
+            if np.linalg.norm(trial_gap) < norm:
+                break
+            t /= 2
+        else:
+            break  # a least-squares minimum (or rounding): no step reduces the gap
+        angles, placed, gap = trial, trial_placed, trial_gap
+        steps += 1
+    return angles, placed, gap, steps
+
+
+def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
+             start: dict[str, float], reference: dict[str, Body], pose: str):
+    """The bodies with every loop closed from the given pose, and what changed.
+
+    Parameters
+    ----------
+    bodies : dict of str to Body
+        Shapes; placements are replaced.
+    tree, loops : list of Joint
+        Tree joints (parents first) and cut joints.
+    start : dict of str to float
+        The given pose: every tree joint's angle (rad).
+    reference : dict of str to Body
+        Where the description put the bodies (typed world points, or placed from ``start``):
+        the points' displacements are measured from it.
+    pose : str
+        ``"world"`` or ``"joints"``, for the record.
+
+    Returns
+    -------
+    (dict of str to Body, Assembly) or (None, (str, str))
+        The assembled bodies and the record; or, when the loops cannot be closed, None and
+        (the worst loop's name, the message naming every loop left open and its gap).
+    """
+    revolute = [j for j in tree if j.type == "revolute"]
+    passive = [j.name for j in revolute if not j.actuated]
+    gap0 = _gaps(place(bodies, tree, start), loops)
+    angles, placed, gap, steps = _newton(bodies, tree, loops, start, passive)
+    norms = {j.name: float(np.hypot(*gap[2 * k:2 * k + 2])) for k, j in enumerate(loops)}
+    if not np.max(np.abs(gap)) < ASSEMBLY_TOL_M:
+        open_ = sorted((n for n in norms if norms[n] >= ASSEMBLY_TOL_M), key=lambda n: -norms[n])
+        worst = open_[0]
+        also = "".join(f"; loop {n} too: {norms[n] * 1e3:.4g} mm" for n in open_[1:])
+        return None, (worst, f"loop {worst} cannot be closed from the given pose: its points "
+                             f"stay {norms[worst] * 1e3:.4g} mm apart{also} with the actuated "
+                             "joints at their given angles (the links cannot reach, or the "
+                             "pose is far from an assembled one)")
+    moved = {f"{b}.{p}": math.dist(placed[b].world(xy), reference[b].world(xy))
+             for b in bodies if b != GROUND for p, xy in bodies[b].points_m.items()}
+    names = [j.name for j in revolute]
+    return placed, Assembly(
+        pose=pose,
+        given_rad={n: wrap_angle(start[n]) for n in names},
+        angles_rad={n: wrap_angle(angles[n]) for n in names},
+        angle_change_rad={n: angles[n] - start[n] for n in names},
+        point_moved_m=moved,
+        gaps_before_m={j.name: float(np.hypot(*gap0[2 * k:2 * k + 2]))
+                       for k, j in enumerate(loops)},
+        gaps_after_m=norms,
+        iterations=steps)

@@ -1,0 +1,122 @@
+"""Bodies: their points and centre of gravity into the body frame, and a plausibility check of
+mass and inertia against the body's size.
+
+``pose = "world"``: points are world coordinates of the drawn configuration; the frame (origin
+at a point, x toward another or world-aligned) fixes the body's drawn placement too.
+``pose = "joints"``: points are in the body's own coordinates; the frame only re-expresses them
+(origin at a point, x toward another, or the coordinates as typed), and the body is placed later
+along the tree from the joint angles.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .fields import BODY_KEYS, NAME, Fields, snap
+from .types import CLOSURE_TOLERANCE_M, GROUND, GYRATION_LIMIT, Body
+
+
+class Bodies(Fields):
+    """The ground and body stage of the validator."""
+
+    def _ground(self, g, scale) -> Body | None:
+        if not isinstance(g, dict):
+            self.err("ground", "missing table [ground] with its points (world frame)")
+            return None
+        for key in sorted(set(g) - {"points", "notes"}):
+            self.err(f"ground.{key}", "unknown key (known: points, notes)")
+        pts = self._points(g.get("points"), "ground.points", scale.get("length"))
+        return Body(GROUND, 0.0, 0.0, (0.0, 0.0), pts, 0.0, (0.0, 0.0))
+
+    def _cg_from(self, raw: dict, f: str, pts: dict, pose: str | None) -> tuple[bool, str | None]:
+        """(valid, cg_from): a point, "world" (pose world), or None (pose joints: the origin of
+        the body's coordinates)."""
+        if pose == "world":
+            cg_from = self._str(raw, "cg_from", f"{f}.cg_from")
+            if cg_from is not None and cg_from != "world" and cg_from not in pts:
+                self.err(f"{f}.cg_from", f"must be 'world' or one of its points {sorted(pts)} "
+                                         f"(got {cg_from!r})")
+                return False, None
+            return cg_from is not None, cg_from
+        cg_from = raw.get("cg_from")
+        if cg_from is None or (pose is None and cg_from == "world"):
+            return True, None  # an unknown pose: no second message about the same mistake
+        if not isinstance(cg_from, str) or cg_from not in pts:
+            self.err(f"{f}.cg_from", f"must be one of its points {sorted(pts)}, or omitted for "
+                                     "the origin of the body's own coordinates (pose = "
+                                     f"'joints' has no world point) (got {cg_from!r})")
+            return False, None
+        return True, cg_from
+
+    def _body(self, i: int, raw: dict, scale, pose: str | None) -> Body | None:
+        f = f"bodies[{i}]"
+        for key in sorted(set(raw) - BODY_KEYS):
+            self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(BODY_KEYS))})")
+        name = self._str(raw, "name", f"{f}.name")
+        if name is not None:
+            f = f"bodies[{i}] ({name})"
+            if not NAME.match(name) or name == GROUND:
+                self.err(f"{f}.name", f"must be an identifier other than 'ground' (got {name!r})")
+        length, mass_u, inertia_u = scale.get("length"), scale.get("mass"), scale.get("inertia")
+        mass = self._num(raw, "mass", f"{f}.mass")
+        if mass is not None and mass <= 0:
+            self.err(f"{f}.mass", f"must be > 0 (got {mass})")
+        izz = self._num(raw, "izz", f"{f}.izz")
+        if izz is not None and izz < 0:
+            self.err(f"{f}.izz", f"must be >= 0 (got {izz})")
+        pts = self._points(raw.get("points"), f"{f}.points", length)
+        cg_given = self._vec(raw, "cg", f"{f}.cg", length)
+        cg_ok, cg_from = self._cg_from(raw, f, pts, pose)
+        # world: the frame is at the first point unless named; joints: the coordinates as typed
+        frame = raw.get("frame")
+        if frame is None:
+            frame = [next(iter(pts))] if pts and pose != "joints" else []
+        elif (not isinstance(frame, list) or not 1 <= len(frame) <= 2
+                or any(not isinstance(p, str) or p not in pts for p in frame)):
+            self.err(f"{f}.frame", f"must be [origin] or [origin, x_toward], naming its points "
+                                   f"{sorted(pts)} (got {frame!r})")
+            return None
+        if None in (name, mass, izz, length, mass_u, inertia_u) or not pts or not cg_ok:
+            return None
+        origin = pts[frame[0]] if frame else (0.0, 0.0)
+        angle = 0.0
+        if len(frame) == 2:
+            dx, dy = pts[frame[1]][0] - origin[0], pts[frame[1]][1] - origin[1]
+            if math.hypot(dx, dy) < CLOSURE_TOLERANCE_M:
+                self.err(f"{f}.frame", f"points {frame} coincide: no x-axis direction")
+            angle = math.atan2(dy, dx)
+        local = {p: to_body(xy, origin, angle) for p, xy in pts.items()}
+        # offset rotated on its own, then added in the body frame: keeps 0.04168 exact
+        base = to_body((0.0, 0.0), origin, angle) if cg_from in ("world", None) else local[cg_from]
+        off = to_body(cg_given, (0.0, 0.0), angle)
+        cg = snap(base[0] + off[0]), snap(base[1] + off[1])
+        # pose = "joints": this placement is the typed coordinates; the tree replaces it
+        body = Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin)
+        self._plausible(f, body, raw["izz"], self.data["units"].get("inertia"))
+        return body
+
+    def _plausible(self, f: str, body: Body, izz_given: float, unit: str) -> None:
+        """A body with extent needs inertia, and not more than its size allows."""
+        if body.mass_kg <= 0 or body.izz_kg_m2 < 0:
+            return  # reported already
+        extent = max(math.dist(body.cg_m, xy) for xy in body.points_m.values())
+        if extent < CLOSURE_TOLERANCE_M:
+            return  # a point mass (a motor at a joint): any izz >= 0 is a rotor's
+        if body.izz_kg_m2 == 0.0:
+            self.err(f"{f}.izz", f"must be > 0 for a body with extent (its points reach "
+                                 f"{extent * 1e3:.4g} mm from its centre of gravity); only a "
+                                 "body with a single point may be a point mass")
+            return
+        radius = math.sqrt(body.izz_kg_m2 / body.mass_kg)
+        if radius > GYRATION_LIMIT * extent:
+            self.err(f"{f}.izz", f"implausible: {izz_given} {unit} gives a radius of gyration "
+                                 f"of {radius * 1e3:.4g} mm for a body whose points reach "
+                                 f"{extent * 1e3:.4g} mm from its centre of gravity (more than "
+                                 f"{GYRATION_LIMIT:g} times); a unit or decimal-point slip?")
+
+
+def to_body(xy, origin, angle: float) -> tuple[float, float]:
+    """A position ``xy`` into the frame at ``origin`` turned by ``angle``; tiny values snap to 0."""
+    dx, dy = xy[0] - origin[0], xy[1] - origin[1]
+    c, s = math.cos(angle), math.sin(angle)
+    return (snap(c * dx + s * dy), snap(-s * dx + c * dy))

@@ -1,0 +1,135 @@
+"""Field validators: each reads one value of the TOML data, records a problem naming the file,
+the field and the value when it is wrong, and returns None (or a neutral value) so the checks go
+on and every problem is reported at once."""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+from ..units import SI, factor
+from .types import ZERO_SNAP_M
+
+NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+TOP_KEYS = {"name", "title", "units", "gravity", "ground", "bodies", "joints", "task", "symbols",
+            "notes", "assemble", "pose"}
+UNIT_KEYS = {"length", "mass", "inertia", "angle", "acceleration"}
+BODY_KEYS = {"name", "mass", "izz", "cg", "cg_from", "points", "frame", "notes"}
+JOINT_KEYS = {"name", "type", "parent", "child", "actuated", "closes_loop", "angle", "notes"}
+TASK_KEYS = {"point", "orientation"}
+#: ``pose``: how points are given. world: world coordinates of the drawn pose (the seed's
+#: tables); joints: each body in its own frame, placed by approximate joint angles
+POSES = ("world", "joints")
+
+
+class Fields:
+    """Collects the problems of one description; the base of the validator's stages."""
+
+    def __init__(self, path: Path, data: dict, sha: str):
+        self.path, self.data, self.sha = path, data, sha
+        self.problems: list[str] = []
+
+    def err(self, fld: str, msg: str) -> None:
+        self.problems.append(f"{self.path}: {fld}: {msg}")
+
+    def _str(self, tbl: dict, key: str, fld: str) -> str | None:
+        v = tbl.get(key)
+        if v is None:
+            self.err(fld, "missing")
+        elif not isinstance(v, str):
+            self.err(fld, f"must be a string (got {v!r})")
+        else:
+            return v
+        return None
+
+    def _num(self, tbl: dict, key: str, fld: str) -> float | None:
+        v = tbl.get(key)
+        if v is None:
+            self.err(fld, "missing")
+        elif isinstance(v, bool) or not isinstance(v, (int, float)):
+            self.err(fld, f"must be a number (got {v!r})")
+        elif not finite(v):
+            self.err(fld, f"must be finite (got {v!r:.40})")
+        else:
+            return float(v)
+        return None
+
+    def _bool(self, tbl: dict, key: str, fld: str, default: bool | None) -> bool | None:
+        v = tbl.get(key, default)
+        if not isinstance(v, bool):
+            self.err(fld, f"must be true or false (got {v!r})")
+            return None
+        return v
+
+    def _vec(self, tbl: dict, key: str, fld: str, unit: float | None) -> tuple[float, float]:
+        v = tbl.get(key)
+        if v is None:
+            self.err(fld, "missing")
+        elif (not isinstance(v, list) or len(v) != 2
+              or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)):
+            self.err(fld, f"must be a list of two numbers [x, y] (got {v!r})")
+        elif not all(finite(x) for x in v):
+            self.err(fld, f"must be finite (got {v!r:.60})")
+        elif unit is not None:
+            return (float(v[0]) * unit, float(v[1]) * unit)
+        return (0.0, 0.0)
+
+    def _list(self, tbl: dict, key: str) -> list:
+        v = tbl.get(key)
+        if v is None:
+            self.err(key, "missing")
+            return []
+        if not isinstance(v, list) or not all(isinstance(x, dict) for x in v):
+            self.err(key, "must be an array of tables ([[" + key + "]])")
+            return []
+        return v
+
+    def _units(self, u) -> dict[str, float]:
+        if not isinstance(u, dict):
+            self.err("units", "missing table [units] (length, mass, inertia, angle, acceleration)")
+            return {}
+        out = {}
+        for key in sorted(set(u) - UNIT_KEYS):
+            self.err(f"units.{key}", f"unknown quantity (known: {', '.join(sorted(UNIT_KEYS))})")
+        for q in sorted(UNIT_KEYS):
+            if q not in u:
+                self.err(f"units.{q}", f"missing (SI would be {SI[q]!r})")
+                continue
+            try:
+                out[q] = factor(q, u[q]) if isinstance(u[q], str) else factor(q, repr(u[q]))
+            except KeyError as exc:
+                self.err(f"units.{q}", f"{exc.args[0]} (got {u[q]!r})")
+        return out
+
+    def _points(self, raw, fld: str, length: float | None) -> dict[str, tuple[float, float]]:
+        if not isinstance(raw, dict) or not raw:
+            self.err(fld, "must be a non-empty table of name = [x, y]")
+            return {}
+        pts = {}
+        for pname in raw:
+            if not NAME.match(pname):
+                self.err(f"{fld}.{pname}", "point names must be identifiers")
+            pts[pname] = self._vec(raw, pname, f"{fld}.{pname}", length)
+        return pts
+
+    def _pose(self, d: dict) -> str | None:
+        """``pose``: "world" (default) or "joints"; None when it is neither (reported)."""
+        pose = d.get("pose", "world")
+        if pose not in POSES:
+            self.err("pose", f"must be {' or '.join(repr(p) for p in POSES)} (got {pose!r})")
+            return None
+        return pose
+
+
+def finite(v) -> bool:
+    """A TOML integer may exceed float range (1 followed by 400 zeros): that is not finite."""
+    try:
+        return math.isfinite(float(v))
+    except OverflowError:
+        return False
+
+
+def snap(v: float) -> float:
+    """``v`` or an exact 0.0 below ``ZERO_SNAP_M``: rounding must not become a parameter."""
+    return 0.0 if abs(v) < ZERO_SNAP_M else v

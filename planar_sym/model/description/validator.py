@@ -1,0 +1,120 @@
+"""The validator: every stage run over one description's TOML data, every problem collected,
+then either a Description or one DescriptionError listing them all."""
+
+from __future__ import annotations
+
+from ...errors import DescriptionError
+from .assembly import assemble, place, tree_angles
+from .bodies import Bodies
+from .fields import NAME, TASK_KEYS, TOP_KEYS
+from .topology import Topology
+from .types import GROUND, Body, Description, Joint
+
+
+class Validator(Bodies, Topology):
+    """Collects every problem of one description before raising."""
+
+    def run(self) -> Description:
+        d = self.data
+        for key in sorted(set(d) - TOP_KEYS):
+            self.err(key, f"unknown key (known: {', '.join(sorted(TOP_KEYS))})")
+        name = self._str(d, "name", "name")
+        if name and not NAME.match(name):
+            self.err("name", f"must be an identifier (got {name!r})")
+        pose = self._pose(d)
+        scale = self._units(d.get("units"))
+        gravity = self._vec(d, "gravity", "gravity", scale.get("acceleration"))
+        ground = self._ground(d.get("ground"), scale)
+        bodies = {GROUND: ground} if ground else {}
+        # bodies with their own errors are still declared: joints naming them say nothing more
+        raw_bodies = self._list(d, "bodies")
+        self.declared = frozenset({GROUND} | {b.get("name") for b in raw_bodies
+                                              if isinstance(b.get("name"), str)})
+        duplicate = False
+        for i, raw in enumerate(raw_bodies):
+            body = self._body(i, raw, scale, pose)
+            if body is None:
+                continue
+            if body.name in bodies:
+                self.err(f"bodies[{i}].name", f"duplicate body name {body.name!r}")
+                duplicate = True
+                continue
+            bodies[body.name] = body
+        joints = [j for i, raw in enumerate(self._list(d, "joints"))
+                  if (j := self._joint(i, raw, bodies, pose, scale.get("angle"))) is not None]
+        before = len(self.problems)
+        tree, loops = self._tree(joints, bodies)
+        closing = self._assemble_option(d, pose)
+        assembly = None
+        if not duplicate and len(self.problems) == before and closing is not None:
+            bodies, assembly = self._drawn_pose(pose, closing, joints, tree, loops, bodies)
+        task = self._task(d.get("task"), bodies)
+        display = d.get("symbols", {})
+        if not isinstance(display, dict) or not all(isinstance(v, str) for v in display.values()):
+            self.err("symbols", "must be a table of parameter name = display string")
+            display = {}
+        if self.problems:
+            raise DescriptionError(self.problems)
+        desc = Description(name, str(d.get("title", name)), self.path, self.sha,
+                           gravity, bodies, tuple(tree), tuple(loops), task[0], task[1],
+                           dict(display), assembly)
+        unknown = sorted(set(display) - {p.name for p in desc.parameters()})
+        for key in unknown:
+            self.err(f"symbols.{key}", "not a parameter of this robot")
+        if self.problems:
+            raise DescriptionError(self.problems)
+        return desc
+
+    def _assemble_option(self, d: dict, pose: str | None) -> bool | None:
+        """Whether the loops are closed numerically; None when the pose cannot be built (a
+        problem with ``pose`` or ``assemble`` is reported, and no gap should be on top of it)."""
+        if pose is None:
+            return None
+        if "assemble" not in d:
+            return pose == "joints"
+        value = self._bool(d, "assemble", "assemble", None)
+        if value is False and pose == "joints":
+            self.err("assemble", "pose = 'joints' gives approximate joint angles, so its loops "
+                                 "are always assembled: remove assemble = false")
+            return None
+        return value
+
+    def _drawn_pose(self, pose: str, closing: bool, joints: list[Joint], tree: list[Joint],
+                    loops: list[Joint], bodies: dict[str, Body]):
+        """(bodies placed in the drawn pose, Assembly or None); ``joints`` in the file's order,
+        ``tree`` parents first."""
+        if pose == "world" and not closing:
+            self._closure(joints, bodies)
+            return bodies, None
+        if pose == "world":
+            if not loops:
+                self.err("assemble", "the robot has no loop (no joint with closes_loop = true) "
+                                     "to assemble")
+                return bodies, None
+            start, reference = tree_angles(bodies, tree), bodies
+        else:
+            if any(j.angle_rad is None for j in tree):
+                return bodies, None  # a joint's angle is wrong, reported already
+            start = {j.name: j.angle_rad for j in tree}
+            reference = place(bodies, tree, start)
+            if not loops:
+                return reference, None  # a tree: the angles place it exactly
+        placed, result = assemble(bodies, tree, loops, start, reference, pose)
+        if placed is None:
+            loop, message = result
+            self.err(f"joints ({loop})", message)
+            return bodies, None
+        return placed, result
+
+    def _task(self, t, bodies) -> tuple[tuple[str, str], str | None]:
+        if not isinstance(t, dict):
+            self.err("task", "missing table [task] with point = 'body.point'")
+            return ("", ""), None
+        for key in sorted(set(t) - TASK_KEYS):
+            self.err(f"task.{key}", f"unknown key (known: {', '.join(sorted(TASK_KEYS))})")
+        end = self._end(t, "point", "task", bodies) or ("", "")
+        orient = t.get("orientation")
+        if orient is not None and (not isinstance(orient, str) or orient not in bodies):
+            self.err("task.orientation", f"must name a body (got {orient!r})")
+            orient = None
+        return end, orient
