@@ -282,8 +282,22 @@ class Scene:
         return [art for art, _ in self.moving]
 
 
+def drawn_frames(desc: Description) -> tuple[list[str], np.ndarray]:
+    """(body names, frames (1, bodies, 3)) of the drawn configuration, from the description
+    alone: what ``Robot.frames(q_drawn)`` computes, without deriving or compiling anything."""
+    names = [b for b in desc.bodies if b != GROUND]
+    frames = np.array([[(*desc.bodies[b].drawn_origin_m, desc.bodies[b].drawn_angle_rad)
+                        for b in names]])
+    return names, frames
+
+
 def drawing_figure(robot_name: str, q=None):
     """A robot drawn at one configuration (default: the drawn one, ``robot.q_drawn``).
+
+    A description file in its drawn configuration is drawn from the description alone, so
+    ``planar-sym draw FILE``, the first check of a new robot, needs no derivation (SymPy) and no
+    compiler; any other configuration, or a robot given by name or generated folder, uses the
+    compiled body frames.
 
     Parameters
     ----------
@@ -298,24 +312,32 @@ def drawing_figure(robot_name: str, q=None):
     matplotlib.figure.Figure
     """
     from ..model.description import load as load_description
-    from ..model.locate import load
     from .plots import new_figure, tight
 
-    robot = load(robot_name)  # a built-in name, a description file or a generated folder
-    if robot.description_file is None:
-        from ..errors import InputError
+    if q is None and str(robot_name).endswith(".toml"):
+        desc = load_description(robot_name)
+        names, frames = drawn_frames(desc)
+        coordinates, q = desc.coordinates, np.array(desc.q_drawn())
+        which = "drawn configuration"
+    else:
+        from ..model.locate import load
 
-        raise InputError(f"{robot_name}: no description at hand to draw it (the generated "
-                         "folder has no description.toml); draw the description file instead")
-    desc = load_description(robot.description_file)
-    which = "drawn configuration" if q is None else "configuration"
-    q = robot.q_drawn if q is None else np.asarray(q, dtype=float)
-    geo = geometry(desc, robot.body_names, robot.frames(q[None, :]))
+        robot = load(robot_name)  # a built-in name, a description file or a generated folder
+        if robot.description_file is None:
+            from ..errors import InputError
+
+            raise InputError(f"{robot_name}: no description at hand to draw it (the generated "
+                             "folder has no description.toml); draw the description file "
+                             "instead")
+        desc = load_description(robot.description_file)
+        which = "drawn configuration" if q is None else "configuration"
+        q = robot.q_drawn if q is None else np.asarray(q, dtype=float)
+        names, frames, coordinates = robot.body_names, robot.frames(q[None, :]), robot.coordinates
+    geo = geometry(desc, names, frames)
     fig = new_figure((8.0, 6.0))
     ax = fig.add_subplot()
     Scene(ax, desc, geo, labels=True)
-    angles = ", ".join(f"{c} {np.degrees(v):.2f}" for c, v in zip(robot.coordinates, q))
-    ax.set_title(f"{robot.name}: {which}\n{robot.title}\nq (deg): {angles}", fontsize=8)
+    angles = ", ".join(f"{c} {np.degrees(v):.2f}" for c, v in zip(coordinates, q))
+    ax.set_title(f"{desc.name}: {which}\n{desc.title}\nq (deg): {angles}", fontsize=8)
     tight(fig)
     return fig
-
