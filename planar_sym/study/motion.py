@@ -8,7 +8,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.robot import Robot
-from ..motion.profiles import JointTrajectory, Trajectory, cubic
+from ..motion.profiles import JointTrajectory, Trajectory
+from ..motion.profiles_by_name import make_profile, profile_span
 from . import spec as specs
 
 
@@ -118,19 +119,9 @@ def trajectory(st: specs.Study, robot: Robot, samples: int | None = None) -> Tra
 def span(st: specs.Study, robot: Robot) -> tuple[float, float]:
     """First and last time (s) of the motion: from 0 to its duration, which is given or set by
     the profile (the via points' last time, the table's rows, the trapezoid's limits)."""
-    m = st.motion
-    if m.duration_s is not None:
-        return 0.0, m.duration_s
-    if m.profile == "via":
-        return 0.0, m.times_s[-1]
-    if m.profile == "table":
-        times, _ = _table(st, robot)
-        return float(times[0]), float(times[-1])
-    from ..motion.smooth import trapezoid_duration
-
-    _, by = _start_and_by(st, robot)
-    return 0.0, trapezoid_duration(by, np.array(m.v_max) * channel_scale(st, robot),
-                                   np.array(m.a_max) * channel_scale(st, robot))
+    if st.motion.duration_s is not None:
+        return 0.0, st.motion.duration_s
+    return profile_span(st.motion.profile, **_profile_args(st, robot))
 
 
 def duration(st: specs.Study, robot: Robot) -> float:
@@ -167,31 +158,28 @@ def _table(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     return read_table(st.motion.table, table_columns(st, robot))
 
 
+def _profile_args(st: specs.Study, robot: Robot) -> dict:
+    """The study's motion as ``make_profile``'s arguments, in SI."""
+    m, scale = st.motion, channel_scale(st, robot)
+    if m.profile == "via":
+        check_width(st, "motion.points[0]", m.points[0], len(scale), _what(st, robot))
+        return {"via_times": m.times_s, "via_points": np.array(m.points) * scale}
+    if m.profile == "table":
+        times, values = _table(st, robot)
+        return {"table_times": times, "table_values": values}
+    start, by = _start_and_by(st, robot)
+    args = {"start": start, "by": by, "duration_s": m.duration_s}
+    if m.profile == "trapezoid":
+        args.update(v_max=np.array(m.v_max) * scale, a_max=np.array(m.a_max) * scale)
+    return args
+
+
 def profile_at(st: specs.Study, robot: Robot, t: np.ndarray | None) -> Trajectory:
-    """The study's motion profile at times ``t`` (s), in SI; ``t = None``: at its ends."""
-    m = st.motion
+    """The study's motion profile at times ``t`` (s), in SI; ``t = None``: at its ends. The
+    cubic is the seed's coeff_3rd bit for bit (``by`` goes through unchanged)."""
     if t is None:
         t = np.array(span(st, robot))
-    if m.profile == "via":
-        from ..motion.splines import via
-
-        check_width(st, "motion.points[0]", m.points[0], len(channel_scale(st, robot)),
-                    _what(st, robot))
-        return via(m.times_s, np.array(m.points) * channel_scale(st, robot), t)
-    if m.profile == "table":
-        from ..motion.splines import table
-
-        return table(*_table(st, robot), t)
-    start, by = _start_and_by(st, robot)
-    if m.profile == "cubic":  # the seed's coeff_3rd, bit for bit
-        return cubic(start, by, m.duration_s, t)
-    from ..motion.smooth import quintic, trapezoid
-
-    if m.profile == "quintic":
-        return quintic(start, by, m.duration_s, t)
-    scale = channel_scale(st, robot)
-    return trapezoid(start, by, t, v_max=np.array(m.v_max) * scale,
-                     a_max=np.array(m.a_max) * scale, duration_s=m.duration_s)
+    return make_profile(st.motion.profile, t_s=t, **_profile_args(st, robot))
 
 
 def check_width(st, fld: str, values, width: int, what: str) -> None:
