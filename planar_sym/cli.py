@@ -6,6 +6,7 @@ import argparse
 import importlib
 import pkgutil
 import sys
+import warnings
 
 from . import commands
 from .errors import PlanarSymError
@@ -27,6 +28,12 @@ def parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = parser().parse_args(argv)
+    with warnings.catch_warnings():  # a warning is one line, like an error: no source line
+        warnings.showwarning = _show_warning
+        return _run(args)
+
+
+def _run(args) -> int:
     try:
         return args.fn(args)
     except PlanarSymError as exc:
@@ -41,6 +48,10 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:  # disk full, permissions: say which file, no traceback
         print(f"error: {exc.strerror or exc} ({exc.filename or 'file system'})", file=sys.stderr)
         return 2
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"warning: {message}", file=sys.stderr)
 
 
 def _silence_stdout() -> None:

@@ -1314,6 +1314,277 @@ def cli_derive_users_folder(ctx):
          "--no-build")
 
 
+# -- structure of closed chains: degrees of freedom (issue 10) --
+
+MOBILITY = ROOT / "tests" / "data" / "mobility"
+FOUR = (ROOT / "examples" / "four_bar.toml").read_text()
+F_4BAR = ("F = 3 x 3 moving bodies - 2 x 4 revolute joints = 3 coordinates - 2 x 1 cut joint "
+          "(B) = 1")
+
+
+@bad(DESC, "a closed chain with more actuated joints than degrees of freedom (four-bar, rocker "
+     "actuated too)", DescriptionError,
+     r"bad\.toml: joints: over-actuated: 2 actuated joints \(crank_joint, rocker_joint\) for "
+     r"F = 3 x 3 moving bodies - 2 x 4 revolute joints = 3 coordinates - 2 x 1 cut joint \(B\) "
+     r"= 1 degree of freedom",
+     f"bad.toml: joints: over-actuated: 2 actuated joints (crank_joint, rocker_joint) for "
+     f"{F_4BAR} degree of freedom: the motors fight each other and the closed-chain torques "
+     "are not unique; mark 1 of them actuated = false", "tests/test_mobility.py")
+def over_actuated(ctx):
+    _desc(ctx, FOUR, ('child = "rocker.O4"\nactuated = false',
+                      'child = "rocker.O4"\nactuated = true'))
+
+
+@bad(DESC, "a closed chain with fewer actuated joints than degrees of freedom (5-bar, E passive)",
+     DescriptionError,
+     r"bad\.toml: joints: under-actuated: 1 actuated joint \(A\) for F = .* = 2 degrees of "
+     r"freedom: .*mark 1 of B, E, D actuated = true",
+     "bad.toml: joints: under-actuated: 1 actuated joint (A) for F = 3 x 4 moving bodies - 2 x 5 "
+     "revolute joints = 4 coordinates - 2 x 1 cut joint (C) = 2 degrees of freedom: the actuated "
+     "joints do not determine the motion, so there is no closed-chain inverse dynamics along "
+     "their trajectory (a closed chain needs exactly F actuated joints); mark 1 of B, E, D "
+     "actuated = true", "tests/test_mobility.py")
+def under_actuated(ctx):
+    _desc(ctx, FIVE_BAR, ('child = "R_Link1.CS1"\nactuated = true',
+                          'child = "R_Link1.CS1"\nactuated = false'))
+
+
+@bad(DESC, "a closed chain with no actuated joint (free release)", DescriptionError,
+     r"bad\.toml: joints: no actuated joint for F = .* = 1 degree of freedom: a free-release "
+     r"closed chain is not supported",
+     f"bad.toml: joints: no actuated joint for {F_4BAR} degree of freedom: a free-release closed "
+     "chain is not supported (its compiled functions split the coordinates into F actuated and "
+     "2 per cut passive ones); mark 1 of crank_joint, coupler_joint, rocker_joint actuated = "
+     "true", "tests/test_mobility.py")
+def no_actuator(ctx):
+    _desc(ctx, FOUR, ('child = "crank.O2"\nactuated = true',
+                      'child = "crank.O2"\nactuated = false'))
+
+
+@bad(DESC, "a loop cut twice: a second cut joint `B2` joining coupler.B to rocker.B",
+     DescriptionError,
+     r"bad\.toml: joints: loop cut twice: B and B2 both join coupler\.B to rocker\.B",
+     "bad.toml: joints: loop cut twice: B and B2 both join coupler.B to rocker.B, so B2 closes "
+     "no new loop, it only repeats B's 2 equations; remove B2", "tests/test_mobility.py")
+def loop_cut_twice(ctx):
+    cut = ('[[joints]]\nname = "B2"\ntype = "revolute"\nparent = "coupler.B"\n'
+           'child = "rocker.B"\nactuated = false\ncloses_loop = true\n\n[task]')
+    _desc(ctx, FOUR, ("[task]", cut))
+
+
+@bad(DESC, "a cut that leaves the tree disconnected: the rocker's ground joint marked "
+     "`closes_loop = true` too", DescriptionError,
+     r"bad\.toml: joints: bodies \['rocker'\] reach ground only through cut joints "
+     r"\(rocker_joint, B\): 2 cuts for 1 independent loop",
+     "bad.toml: joints: bodies ['rocker'] reach ground only through cut joints (rocker_joint, "
+     "B): 2 cuts for 1 independent loop leave the tree disconnected; make rocker_joint or B a "
+     "tree joint (closes_loop = false)", "tests/test_mobility.py")
+def cut_disconnects_tree(ctx):
+    _desc(ctx, FOUR, ('child = "rocker.O4"\nactuated = false',
+                      'child = "rocker.O4"\nactuated = false\ncloses_loop = true'))
+
+
+@bad(DESC, "no degree of freedom: two bars pinned to ground and to each other (a triangle)",
+     DescriptionError,
+     r"bad\.toml: joints: a structure, not a mechanism: F = .* = 0 degrees of freedom and Phi_q "
+     r"has full rank 2",
+     "bad.toml: joints: a structure, not a mechanism: F = 3 x 2 moving bodies - 2 x 3 revolute "
+     "joints = 2 coordinates - 2 x 1 cut joint (A) = 0 degrees of freedom and Phi_q has full "
+     "rank 2 at the drawn pose, so nothing moves; remove a link, or split one with a joint",
+     "tests/test_mobility.py")
+def structure(ctx):
+    _desc(ctx, (MOBILITY / "triangle.toml").read_text())
+
+
+@bad(DESC, "a redundant constraint: a parallelogram with an extra parallel link (Gruebler 0, "
+     "yet it moves)", DescriptionError,
+     r"bad\.toml: joints: redundant constraint: the 4 loop-closure equations of loops B, C have "
+     r"rank 3 at the drawn pose .* it moves with 1 degree of freedom where F = .* = 0",
+     "bad.toml: joints: redundant constraint: the 4 loop-closure equations of loops B, C have "
+     "rank 3 at the drawn pose (Phi_q 4 x 4, smallest singular value 1.5e-18 m of 0.355 m) and "
+     "keep it as the mechanism moves: it moves with 1 degree of freedom where F = 3 x 4 moving "
+     "bodies - 2 x 6 revolute joints = 4 coordinates - 2 x 2 cut joints (B, C) = 0 (an extra "
+     "link parallel to a parallelogram's, say); remove the redundant link or joint: the loop "
+     "equations must be independent", "tests/test_mobility.py")
+def redundant_constraint(ctx):
+    _desc(ctx, (MOBILITY / "parallelogram.toml").read_text())
+
+
+@bad(DESC, "a singular drawn pose: a change-point four-bar drawn flat", DescriptionError,
+     r"bad\.toml: joints: singular drawn pose: the 2 loop-closure equations of loop B have rank "
+     r"1 at the drawn pose .*: 2 degrees of freedom there where the count gives F = .* = 1",
+     "bad.toml: joints: singular drawn pose: the 2 loop-closure equations of loop B have rank 1 "
+     "at the drawn pose (Phi_q 2 x 3, smallest singular value 3.4e-17 m of 0.242 m): 2 degrees "
+     "of freedom there where the count gives F = 3 x 3 moving bodies - 2 x 4 revolute joints = "
+     "3 coordinates - 2 x 1 cut joint (B) = 1; links are aligned (a dead-centre or change "
+     "point): draw the robot away from it, every Newton solve and simulation starts there",
+     "tests/test_mobility.py")
+def singular_drawn_pose(ctx):
+    _desc(ctx, (MOBILITY / "flat_four_bar.toml").read_text())
+
+
+# -- plausibility and cascades (issue 10) --
+# (a pattern starting (?:\A|:\n  \S*) and ending \Z: the message is that one problem line)
+
+def _warned(ctx: Ctx, text: str, *edits) -> None:
+    """Load an edited description that must load; its one warning raised as ``Warned``."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        description.load(ctx.edited(text, *edits))
+    shown = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert len(shown) == 1, [str(w.message) for w in caught]
+    raise Warned(str(shown[0].message))
+
+
+FOUR = (ROOT / "examples" / "four_bar.toml").read_text()
+TP = "tests/test_plausibility.py::"
+TC = "tests/test_cascades.py::"
+
+
+@bad(DESC, "lengths in m with `length = \"mm\"` (the robot 0.2 mm across)", DescriptionError,
+     r"bad\.toml: units\.length: the robot spans 0\.2 mm \(from ground\.O to link2\.CS2\): "
+     r"below 1 mm the joints' closure tolerance \(0\.01 mm\) cannot tell its points apart; were "
+     r"the lengths typed in another unit\? \(units\.length = \"m\" makes it 200 mm",
+     "bad.toml: units.length: the robot spans 0.2 mm (from ground.O to link2.CS2): below 1 mm "
+     "the joints' closure tolerance (0.01 mm) cannot tell its points apart; were the lengths "
+     "typed in another unit? (units.length = \"m\" makes it 200 mm, \"cm\" makes it 2 mm)",
+     TP + "test_lengths_in_m_typed_with_mm_is_an_error")
+def length_unit_too_small(ctx):
+    _desc(ctx, SERIAL, ('length = "m"', 'length = "mm"'))
+
+
+@bad(DESC, "lengths in mm with `length = \"m\"` (the four-bar 152 m across)", Warned,
+     r"bad\.toml: units\.length: the robot spans 152\.2 m \(from ground\.O2 to coupler\.B\) \(a "
+     r"warning above 100 m: only the largest cranes are that big\); were the lengths typed in "
+     r"another unit\? \(units\.length = \"cm\" makes it 1\.522 m, \"mm\" makes it 152\.2 mm\)",
+     "bad.toml: units.length: the robot spans 152.2 m (from ground.O2 to coupler.B) (a warning "
+     "above 100 m: only the largest cranes are that big); were the lengths typed in another "
+     "unit? (units.length = \"cm\" makes it 1.522 m, \"mm\" makes it 152.2 mm)",
+     TP + "test_lengths_in_mm_typed_with_m_warns")
+def length_unit_too_large(ctx):
+    _warned(ctx, FOUR, ('length = "mm"', 'length = "m"'))
+
+
+@bad(DESC, "a robot a kilometre across: link2's tip at `[1500.0, 0.0]` m", DescriptionError,
+     r"bad\.toml: units\.length: the robot spans 1500 m \(from ground\.O to link2\.CS2\) \(no "
+     r"planar linkage is a kilometre across\)",
+     "bad.toml: units.length: the robot spans 1500 m (from ground.O to link2.CS2) (no planar "
+     "linkage is a kilometre across); were the lengths typed in another unit? (units.length = "
+     "\"cm\" makes it 15 m, \"mm\" makes it 1.5 m)", TP + "test_a_kilometre_is_an_error")
+def length_kilometre(ctx):
+    _desc(ctx, SERIAL, ("CS2 = [0.2, 0.0] }", "CS2 = [1500.0, 0.0] }"))
+
+
+@bad(DESC, "gravity in mm/s^2 with `acceleration = \"m/s^2\"`: `gravity = [0.0, -9810.0]`",
+     DescriptionError,
+     r"bad\.toml: gravity: magnitude 9810 m/s\^2 is above 300 m/s\^2 \(the Sun's surface gives "
+     r"274; run-time parameters are refused beyond it too\); typed in another unit\? "
+     r"\(units\.acceleration = \"mm/s\^2\" makes it 9\.81 m/s\^2\)",
+     "bad.toml: gravity: magnitude 9810 m/s^2 is above 300 m/s^2 (the Sun's surface gives 274; "
+     "run-time parameters are refused beyond it too); typed in another unit? "
+     "(units.acceleration = \"mm/s^2\" makes it 9.81 m/s^2)",
+     TP + "test_gravity_in_mm_typed_with_m_is_an_error")
+def gravity_too_large(ctx):
+    _desc(ctx, SERIAL, ("gravity = [0.0, -9.81]", "gravity = [0.0, -9810.0]"))
+
+
+@bad(DESC, "gravity in m/s^2 with `acceleration = \"mm/s^2\"` (0.00981 m/s^2)", Warned,
+     r"bad\.toml: gravity: magnitude 0\.00981 m/s\^2 is less than any planet's \(Pluto: 0\.62; a "
+     r"warning below 0\.1 m/s\^2; gravity = \[0, 0\] says a horizontal robot\); typed in another "
+     r"unit\? \(units\.acceleration = \"m/s\^2\" makes it 9\.81 m/s\^2\)",
+     "bad.toml: gravity: magnitude 0.00981 m/s^2 is less than any planet's (Pluto: 0.62; a "
+     "warning below 0.1 m/s^2; gravity = [0, 0] says a horizontal robot); typed in another "
+     "unit? (units.acceleration = \"m/s^2\" makes it 9.81 m/s^2)",
+     TP + "test_gravity_in_m_typed_with_mm_warns")
+def gravity_too_small(ctx):
+    _warned(ctx, SERIAL, ('acceleration = "m/s^2"', 'acceleration = "mm/s^2"'))
+
+
+@bad(DESC, "gravity ten times Earth's: `gravity = [0.0, -98.1]`", Warned,
+     r"bad\.toml: gravity: magnitude 98\.1 m/s\^2 is more than any planet's \(Jupiter: 24\.8; a "
+     r"warning above 30 m/s\^2\); a unit or decimal slip\?",
+     "bad.toml: gravity: magnitude 98.1 m/s^2 is more than any planet's (Jupiter: 24.8; a "
+     "warning above 30 m/s^2); a unit or decimal slip?", TP + "test_gravity_bounds")
+def gravity_high(ctx):
+    _warned(ctx, SERIAL, ("gravity = [0.0, -9.81]", "gravity = [0.0, -98.1]"))
+
+
+@bad(DESC, "a cg typed as its world x: the four-bar rocker's `cg = [116.94..., 36.23...]` "
+     "from O4", Warned,
+     r"bad\.toml: bodies\[2\] \(rocker\)\.cg: the centre of gravity lies 90\.62 mm outside the "
+     r"outline of the body's points, 1\.13 times the body's size of 80 mm \(a warning beyond 1 "
+     r"times, an error beyond 10\); cg is measured from cg_from = 'O4' in world axes",
+     "bad.toml: bodies[2] (rocker).cg: the centre of gravity lies 90.62 mm outside the outline "
+     "of the body's points, 1.13 times the body's size of 80 mm (a warning beyond 1 times, an "
+     "error beyond 10); cg is measured from cg_from = 'O4' in world axes: does cg_from name "
+     "the wrong point, or is cg in world coordinates or another unit? If the mass is really "
+     "there, give the body a point there", TP + "test_cg_in_world_coordinates_warns")
+def cg_world(ctx):
+    _warned(ctx, FOUR, ("cg = [16.940482998, 36.235618330]",
+                        "cg = [116.940482998, 36.235618330]"))
+
+
+@bad(DESC, "a cg typed in mm in a file in m: link2 `cg = [41.68, 0.0]`", DescriptionError,
+     r"bad\.toml: bodies\[2\] \(link2\)\.cg: the centre of gravity lies 41\.58 m outside the "
+     r"outline of the body's points, 416 times the body's size of 100 mm",
+     "bad.toml: bodies[2] (link2).cg: the centre of gravity lies 41.58 m outside the outline of "
+     "the body's points, 416 times the body's size of 100 mm (a warning beyond 1 times, an "
+     "error beyond 10); cg is measured from cg_from = 'CS1' in world axes: does cg_from name "
+     "the wrong point, or is cg in world coordinates or another unit? If the mass is really "
+     "there, give the body a point there", TP + "test_cg_in_mm_in_a_metre_file_is_an_error")
+def cg_unit(ctx):
+    _desc(ctx, SERIAL, ("cg = [0.04168, 0.0]", "cg = [41.68, 0.0]"))
+
+
+@bad(DESC, "an empty display name: `m_link1 = \"\"` in [symbols]", DescriptionError,
+     r"bad\.toml: symbols\.m_link1: display name '' of parameter m_link1 is empty: the "
+     r"equations would show nothing for it",
+     "bad.toml: symbols.m_link1: display name '' of parameter m_link1 is empty: the equations "
+     "would show nothing for it", TP + "test_bad_display_name_is_refused")
+def symbol_empty(ctx):
+    _desc(ctx, SERIAL, ('m_link1 = "m_1"', 'm_link1 = ""'))
+
+
+@bad(DESC, "a display name that is not LaTeX: `m_link1 = \"m_{1\"` (a brace left open)",
+     DescriptionError,
+     r"bad\.toml: symbols\.m_link1: display name 'm_\{1' of parameter m_link1 is not valid LaTeX "
+     r"\(Expected end_group, found end of text\): the equation report would lose the symbol",
+     "bad.toml: symbols.m_link1: display name 'm_{1' of parameter m_link1 is not valid LaTeX "
+     "(Expected end_group, found end of text): the equation report would lose the symbol",
+     TP + "test_bad_display_name_is_refused")
+def symbol_latex(ctx):
+    _desc(ctx, SERIAL, ('m_link1 = "m_1"', 'm_link1 = "m_{1"'))
+
+
+@bad(DESC, "a point written as a 3-vector: link1 `CS2 = [0.1, 0.0, 0.0]` (one message: no "
+     "'points coincide' or 'joint does not close' after it)", DescriptionError,
+     r"(?:\A|:\n  \S*)bad\.toml: bodies\[0\] \(link1\)\.points\.CS2: must be a list of two "
+     r"numbers \[x, y\] \(got \[0\.1, 0\.0, 0\.0\]\)\Z",
+     "bad.toml: bodies[0] (link1).points.CS2: must be a list of two numbers [x, y] (got [0.1, "
+     "0.0, 0.0])", TC + "test_one_mistake_one_message")
+def point_3_vector(ctx):
+    _desc(ctx, SERIAL, ("CS1 = [0.0, 0.0], CS2 = [0.1, 0.0] }",
+                        "CS1 = [0.0, 0.0], CS2 = [0.1, 0.0, 0.0] }"))
+
+
+@bad(DESC, "a body without a name (link2's `name` deleted; one message: the joint and task "
+     "naming link2 say nothing)", DescriptionError,
+     r"(?:\A|:\n  \S*)bad\.toml: bodies\[2\]\.name: missing\Z", "bad.toml: bodies[2].name: missing",
+     TC + "test_one_mistake_one_message")
+def body_name_missing(ctx):
+    _desc(ctx, SERIAL, ('name = "link2"\n', ""))
+
+
+@bad(DESC, "a misspelt joint type `type = \"welded\"` (one message: no 'actuated' missing)",
+     DescriptionError,
+     r"(?:\A|:\n  \S*)bad\.toml: joints\[1\] \(weld_motor2\)\.type: must be 'revolute' or "
+     r"'weld' \(got 'welded'\)\Z",
+     "bad.toml: joints[1] (weld_motor2).type: must be 'revolute' or 'weld' (got 'welded')",
+     TC + "test_one_mistake_one_message")
+def joint_type_misspelt(ctx):
+    _desc(ctx, SERIAL, ('type = "weld"', 'type = "welded"'))
+
+
 # -- the test ---------------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module", autouse=True)

@@ -5,7 +5,6 @@ convergence orders of a table sampled from a known quintic, and the CSV reader's
 
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 

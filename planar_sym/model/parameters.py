@@ -8,17 +8,14 @@ Rules, with their figures:
   the largest distance from its centre of gravity to its points (as in the description; here
   the points the equations use and the frame origin, which is always one of its points);
 * gravity magnitude ``g`` from 0 to ``G_LIMIT`` = 300 m/s^2 (the Sun's surface gives 274;
-  more is a unit slip such as mm/s^2 read as m/s^2).
+  more is a unit slip such as mm/s^2 read as m/s^2), the bound the description's gravity has.
 """
 
 from __future__ import annotations
 
 import math
 
-from .description import CLOSURE_TOLERANCE_M, GYRATION_LIMIT
-
-#: largest plausible gravity magnitude (m/s^2): the Sun's surface gravity is 274
-G_LIMIT = 300.0
+from .description import CLOSURE_TOLERANCE_M, G_LIMIT, GYRATION_LIMIT
 
 
 def problems(values: dict[str, float], bodies: tuple[str, ...]) -> list[str]:

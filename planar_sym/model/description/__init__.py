@@ -3,8 +3,9 @@
 Stage 1 of the pipeline, shared by ``derive`` (build time) and the runtime; imports no SymPy.
 The stages, one module each: ``reader`` (find and read the file), ``fields`` (one value at a
 time), ``bodies`` (body frames, plausibility), ``topology`` (joints, tree order, loops),
-``assembly`` (placing bodies from joint angles, closing loops numerically), ``validator`` (runs
-them all, collects every problem), ``types`` (what comes out).
+``assembly`` (placing bodies from joint angles, closing loops numerically), ``plausibility``
+(the span against the length unit, gravity, centres of gravity, display names: errors and
+warnings), ``validator`` (runs them all, collects every problem), ``types`` (what comes out).
 
 Conventions (written once, used everywhere)
 -------------------------------------------
@@ -66,6 +67,7 @@ from .assembly import ASSEMBLY_TOL_M, place_at
 from .reader import builtin_robots, load, resolve, robots_dir
 from .types import (
     CLOSURE_TOLERANCE_M,
+    G_LIMIT,
     GROUND,
     GYRATION_LIMIT,
     ZERO_SNAP_M,
@@ -77,6 +79,7 @@ from .types import (
     wrap_angle,
 )
 
-__all__ = ["ASSEMBLY_TOL_M", "CLOSURE_TOLERANCE_M", "GROUND", "GYRATION_LIMIT", "ZERO_SNAP_M",
+__all__ = ["ASSEMBLY_TOL_M", "CLOSURE_TOLERANCE_M", "GROUND", "GYRATION_LIMIT", "G_LIMIT",
+           "ZERO_SNAP_M",
            "Assembly", "Body", "Description", "Joint", "Parameter", "builtin_robots", "load",
            "place_at", "resolve", "robots_dir", "wrap_angle"]

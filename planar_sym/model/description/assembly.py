@@ -173,10 +173,11 @@ def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
         open_ = sorted((n for n in norms if norms[n] >= ASSEMBLY_TOL_M), key=lambda n: -norms[n])
         worst = open_[0]
         also = "".join(f"; loop {n} too: {norms[n] * 1e3:.4g} mm" for n in open_[1:])
-        return None, (worst, f"loop {worst} cannot be closed from the given pose: its points "
-                             f"stay {norms[worst] * 1e3:.4g} mm apart{also} with the actuated "
-                             "joints at their given angles (the links cannot reach, or the "
-                             "pose is far from an assembled one)")
+        message = (f"loop {worst} cannot be closed from the given pose: its points "
+                   f"stay {norms[worst] * 1e3:.4g} mm apart{also} with the actuated "
+                   "joints at their given angles (the links cannot reach, or the "
+                   "pose is far from an assembled one)")
+        return None, (worst, message)
     moved = {f"{b}.{p}": math.dist(placed[b].world(xy), reference[b].world(xy))
              for b in bodies if b != GROUND for p, xy in bodies[b].points_m.items()}
     names = [j.name for j in revolute]

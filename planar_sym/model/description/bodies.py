@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import math
 
-from .fields import BODY_KEYS, NAME, Fields, snap
+from .fields import BODY_KEYS, NAME, snap
+from .plausibility import Plausibility
 from .types import CLOSURE_TOLERANCE_M, GROUND, GYRATION_LIMIT, Body
 
 
-class Bodies(Fields):
+class Bodies(Plausibility):
     """The ground and body stage of the validator."""
 
     def _ground(self, g, scale) -> Body | None:
@@ -25,15 +26,21 @@ class Bodies(Fields):
             return None
         for key in sorted(set(g) - {"points", "notes"}):
             self.err(f"ground.{key}", "unknown key (known: points, notes)")
+        before = len(self.problems)
         pts = self._points(g.get("points"), "ground.points", scale.get("length"))
+        if len(self.problems) > before:
+            return None  # a bad point is not (0, 0): no joint at it is checked
         return Body(GROUND, 0.0, 0.0, (0.0, 0.0), pts, 0.0, (0.0, 0.0))
 
-    def _cg_from(self, raw: dict, f: str, pts: dict, pose: str | None) -> tuple[bool, str | None]:
+    def _cg_from(self, raw: dict, f: str, pts: dict, pose: str | None,
+                 points_ok: bool) -> tuple[bool, str | None]:
         """(valid, cg_from): a point, "world" (pose world), or None (pose joints: the origin of
-        the body's coordinates)."""
+        the body's coordinates). With a problem in the points, a point they lack is not another."""
         if pose == "world":
             cg_from = self._str(raw, "cg_from", f"{f}.cg_from")
             if cg_from is not None and cg_from != "world" and cg_from not in pts:
+                if not points_ok:
+                    return False, None
                 self.err(f"{f}.cg_from", f"must be 'world' or one of its points {sorted(pts)} "
                                          f"(got {cg_from!r})")
                 return False, None
@@ -42,6 +49,8 @@ class Bodies(Fields):
         if cg_from is None or (pose is None and cg_from == "world"):
             return True, None  # an unknown pose: no second message about the same mistake
         if not isinstance(cg_from, str) or cg_from not in pts:
+            if not points_ok and isinstance(cg_from, str):
+                return False, None
             self.err(f"{f}.cg_from", f"must be one of its points {sorted(pts)}, or omitted for "
                                      "the origin of the body's own coordinates (pose = "
                                      f"'joints' has no world point) (got {cg_from!r})")
@@ -52,6 +61,9 @@ class Bodies(Fields):
         f = f"bodies[{i}]"
         for key in sorted(set(raw) - BODY_KEYS):
             self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(BODY_KEYS))})")
+        # a body with a problem of its own is not built: nothing after it (frame, closure,
+        # plausibility, joints naming it) reports the same mistake again
+        before = len(self.problems)
         name = self._str(raw, "name", f"{f}.name")
         if name is not None:
             f = f"bodies[{i}] ({name})"
@@ -64,19 +76,25 @@ class Bodies(Fields):
         izz = self._num(raw, "izz", f"{f}.izz")
         if izz is not None and izz < 0:
             self.err(f"{f}.izz", f"must be >= 0 (got {izz})")
+        n_points = len(self.problems)
         pts = self._points(raw.get("points"), f"{f}.points", length)
+        points_ok = len(self.problems) == n_points
         cg_given = self._vec(raw, "cg", f"{f}.cg", length)
-        cg_ok, cg_from = self._cg_from(raw, f, pts, pose)
+        cg_ok, cg_from = self._cg_from(raw, f, pts, pose, points_ok)
         # world: the frame is at the first point unless named; joints: the coordinates as typed
         frame = raw.get("frame")
         if frame is None:
             frame = [next(iter(pts))] if pts and pose != "joints" else []
         elif (not isinstance(frame, list) or not 1 <= len(frame) <= 2
                 or any(not isinstance(p, str) or p not in pts for p in frame)):
+            if not points_ok and isinstance(frame, list) and 1 <= len(frame) <= 2 \
+                    and all(isinstance(p, str) for p in frame):
+                return None  # it may name the point in error
             self.err(f"{f}.frame", f"must be [origin] or [origin, x_toward], naming its points "
                                    f"{sorted(pts)} (got {frame!r})")
             return None
-        if None in (name, mass, izz, length, mass_u, inertia_u) or not pts or not cg_ok:
+        if (None in (name, mass, izz, length, mass_u, inertia_u) or not pts or not cg_ok
+                or len(self.problems) > before):
             return None
         origin = pts[frame[0]] if frame else (0.0, 0.0)
         angle = 0.0
@@ -84,6 +102,7 @@ class Bodies(Fields):
             dx, dy = pts[frame[1]][0] - origin[0], pts[frame[1]][1] - origin[1]
             if math.hypot(dx, dy) < CLOSURE_TOLERANCE_M:
                 self.err(f"{f}.frame", f"points {frame} coincide: no x-axis direction")
+                return None
             angle = math.atan2(dy, dx)
         local = {p: to_body(xy, origin, angle) for p, xy in pts.items()}
         # offset rotated on its own, then added in the body frame: keeps 0.04168 exact
@@ -92,7 +111,8 @@ class Bodies(Fields):
         cg = snap(base[0] + off[0]), snap(base[1] + off[1])
         # pose = "joints": this placement is the typed coordinates; the tree replaces it
         body = Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin)
-        self._plausible(f, body, raw["izz"], self.data["units"].get("inertia"))
+        if not self._cg_plausible(f, body, cg_from, pose):  # else its extent is in question
+            self._plausible(f, body, raw["izz"], self.data["units"].get("inertia"))
         return body
 
     def _plausible(self, f: str, body: Body, izz_given: float, unit: str) -> None:
@@ -108,7 +128,7 @@ class Bodies(Fields):
                                  "body with a single point may be a point mass")
             return
         radius = math.sqrt(body.izz_kg_m2 / body.mass_kg)
-        if radius > GYRATION_LIMIT * extent:
+        if radius > GYRATION_LIMIT * extent and not self.length_slip:  # the slip is reported
             self.err(f"{f}.izz", f"implausible: {izz_given} {unit} gives a radius of gyration "
                                  f"of {radius * 1e3:.4g} mm for a body whose points reach "
                                  f"{extent * 1e3:.4g} mm from its centre of gravity (more than "

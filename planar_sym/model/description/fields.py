@@ -29,9 +29,13 @@ class Fields:
     def __init__(self, path: Path, data: dict, sha: str):
         self.path, self.data, self.sha = path, data, sha
         self.problems: list[str] = []
+        self.warnings: list[str] = []  # shown only when the description has no error
 
     def err(self, fld: str, msg: str) -> None:
         self.problems.append(f"{self.path}: {fld}: {msg}")
+
+    def warn(self, fld: str, msg: str) -> None:
+        self.warnings.append(f"{self.path}: {fld}: {msg}")
 
     def _str(self, tbl: dict, key: str, fld: str) -> str | None:
         v = tbl.get(key)

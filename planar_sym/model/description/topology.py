@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from . import mobility
 from .fields import JOINT_KEYS, NAME, Fields
 from .types import CLOSURE_TOLERANCE_M, GROUND, Body, Joint
 
@@ -27,7 +28,8 @@ class Topology(Fields):
         if jtype not in ("revolute", "weld"):
             self.err(f"{f}.type", f"must be 'revolute' or 'weld' (got {jtype!r})")
         ends = [self._end(raw, key, f, bodies) for key in ("parent", "child")]
-        actuated = raw.get("actuated", False if jtype == "weld" else None)
+        # actuated is required of a revolute only: a wrong type is one problem, not two
+        actuated = raw.get("actuated", None if jtype == "revolute" else False)
         if not isinstance(actuated, bool):
             self.err(f"{f}.actuated", f"must be true or false (got {actuated!r})")
         loop = raw.get("closes_loop", False)
@@ -107,11 +109,60 @@ class Topology(Fields):
             pending.remove(ready)
         unplaced = sorted(set(bodies) - placed)
         if unplaced and not any(len(v) > 1 for v in into.values()) and not self.problems:
-            self.err("joints", f"bodies {unplaced} are not connected to ground by a chain of "
-                               "joints (the kinematic graph is disconnected)")
+            self._unplaced(unplaced, joints, bodies)
+        self._repeated(joints)
         if not [j for j in tree if j.type == "revolute"] and not self.problems:
             self.err("joints", "no revolute joint: the robot has no coordinates")
         return ordered, loops
+
+    def _unplaced(self, unplaced: list[str], joints: list[Joint], bodies) -> None:
+        """Bodies off the tree: disconnected, or reached only through cut joints (then there are
+        more cuts than independent loops, and the cut bodies would have no coordinates)."""
+        reach, grew = {GROUND}, True
+        while grew:
+            grew = False
+            for j in joints:
+                if (j.parent in reach) != (j.child in reach):
+                    reach |= {j.parent, j.child}
+                    grew = True
+        cut_only = [b for b in unplaced if b in reach]
+        if cut_only:
+            cuts = [j.name for j in joints if j.closes_loop
+                    and ((j.parent in cut_only) != (j.child in cut_only))]
+            loops = len(joints) - (len(bodies) - 1)  # edges - nodes + 1, ground a node
+            n_cut = sum(j.closes_loop for j in joints)
+            self.err("joints", f"bodies {cut_only} reach ground only through cut joints "
+                               f"({', '.join(cuts)}): {n_cut} cuts for {loops} independent "
+                               f"loop{'s' if loops != 1 else ''} leave the tree disconnected; "
+                               f"make {' or '.join(cuts)} a tree joint (closes_loop = false)")
+        if len(cut_only) < len(unplaced):
+            self.err("joints", f"bodies {[b for b in unplaced if b not in reach]} are not "
+                               "connected to ground by a chain of joints (the kinematic graph "
+                               "is disconnected)")
+
+    def _repeated(self, joints: list[Joint]) -> None:
+        """Two joints joining the same two body points: the second adds no loop, only the same
+        two equations again (a loop cut twice), and the loop equations become dependent."""
+        seen: dict[frozenset, Joint] = {}
+        for j in joints:
+            key = frozenset({(j.parent, j.parent_point), (j.child, j.child_point)})
+            if key in seen and (seen[key].closes_loop or j.closes_loop):  # else: a body with
+                first = seen[key]  # two parents, reported already
+                what = "loop cut twice" if first.closes_loop else "joint repeated"
+                self.err("joints", f"{what}: {first.name} and {j.name} both join "
+                                   f"{j.parent}.{j.parent_point} to {j.child}.{j.child_point}, "
+                                   f"so {j.name} closes no new loop, it only repeats "
+                                   f"{first.name}'s 2 equations; remove {j.name}")
+            else:
+                seen[key] = j
+
+    def _mobility(self, tree: list[Joint], loops: list[Joint], bodies: dict[str, Body],
+                  before: int) -> None:
+        """Degrees of freedom against actuation and the rank of Phi_q at the drawn pose (see
+        ``mobility``), once that pose is built (no problem since ``before``); else only what
+        the count shows, which explains a loop that the actuated joints hold open."""
+        for problem in mobility.problems(bodies, tree, loops, len(self.problems) == before):
+            self.err("joints", problem)
 
     def _closure(self, joints: list[Joint], bodies: dict[str, Body]) -> None:
         """Every joint's two points meet in the pose as typed (pose = "world", no assemble)."""

@@ -20,6 +20,35 @@ CLOSURE_TOLERANCE_M = 1e-5
 #: seed's 3-RRR "90992 kg*mm^2" (28 times) and kg*mm^2 written where kg*m^2 was meant.
 GYRATION_LIMIT = 3.0
 
+#: Largest plausible gravity magnitude (m/s^2), an error beyond it here and in the run-time
+#: parameter check: the Sun's surface gives 274; more is a unit slip such as 9810 (mm/s^2)
+#: typed with acceleration = "m/s^2".
+G_LIMIT = 300.0
+#: Gravity magnitudes outside [G_LOW, G_HIGH] m/s^2 (but not 0, a horizontal robot) are a
+#: warning: Pluto gives 0.62 and Jupiter 24.8, so beyond these only small moons, asteroids, stars
+#: or a centrifuge; 9.81 typed in mm/s^2 gives 0.00981.
+G_LOW, G_HIGH = 0.1, 30.0
+
+#: The robot's span (largest distance between two of its points or centres of gravity, m)
+#: below this is an error: joints close to CLOSURE_TOLERANCE_M (0.01 mm), 1% of it, so the
+#: checks could not tell its points apart. A 0.05 to 1 m robot typed in m with length = "mm"
+#: spans 0.05 to 1 mm.
+SIZE_MIN_M = 1e-3
+#: A span above this (m) is a warning: the longest crane booms reach 100 to 200 m, so a planar
+#: mechanism can be that large, but a 0.1 to 1 m robot typed in mm with length = "m" spans 100 to
+#: 1000 m.
+SIZE_LARGE_M = 100.0
+#: A span above this (m) is an error: no machine's planar linkage is a kilometre across.
+SIZE_MAX_M = 1000.0
+
+#: A centre of gravity further outside the outline of its body's points (their convex hull) than
+#: CG_WARN times the body's size (largest distance between its points) is a warning, more than
+#: CG_ERROR times an error. A bent link's cg lies off the line of its joints by at most about
+#: half its length, a counterweight beyond a joint about one length; ten lengths away is
+#: cg_from naming the wrong point, cg in world coordinates, or cg typed in another unit. A body
+#: whose mass is really there should have a point there (its size then includes it).
+CG_WARN, CG_ERROR = 1.0, 10.0
+
 #: Body-frame coordinates smaller than this (m) are exact zeros: rotating a point that lies on a
 #: link's axis into the link frame leaves ~1e-17 of rounding, which must not become a parameter.
 ZERO_SNAP_M = 1e-12
@@ -121,8 +150,8 @@ class Assembly:
 
     def report(self) -> str:
         """Plain-text account of the assembled pose and of what moved (``planar-sym draw``)."""
-        lines = [f"assembled the loops from the given pose (pose = \"{self.pose}\") in "
-                 f"{self.iterations} Gauss-Newton steps:"]
+        lines = [(f"assembled the loops from the given pose (pose = \"{self.pose}\") in "
+                  f"{self.iterations} Gauss-Newton steps:")]
         lines += [f"  loop {k}: gap {v * 1e3:.4g} mm closed (now {self.gaps_after_m[k]:.2g} m)"
                   for k, v in self.gaps_before_m.items()]
         for k, v in self.angles_rad.items():

@@ -11,6 +11,14 @@ from .topology import Topology
 from .types import GROUND, Body, Description, Joint
 
 
+class AnyBody(frozenset):
+    """The declared bodies when one has no usable name (missing, not an identifier, a
+    duplicate): any body a joint names may be that one, so no joint says 'unknown body'."""
+
+    def __contains__(self, item) -> bool:
+        return True
+
+
 class Validator(Bodies, Topology):
     """Collects every problem of one description before raising."""
 
@@ -23,13 +31,14 @@ class Validator(Bodies, Topology):
             self.err("name", f"must be an identifier (got {name!r})")
         pose = self._pose(d)
         scale = self._units(d.get("units"))
+        self._span(d, pose, scale)
         gravity = self._vec(d, "gravity", "gravity", scale.get("acceleration"))
+        self._gravity_plausible(gravity, d)
         ground = self._ground(d.get("ground"), scale)
         bodies = {GROUND: ground} if ground else {}
         # bodies with their own errors are still declared: joints naming them say nothing more
         raw_bodies = self._list(d, "bodies")
-        self.declared = frozenset({GROUND} | {b.get("name") for b in raw_bodies
-                                              if isinstance(b.get("name"), str)})
+        self.declared = _declared(d, raw_bodies)
         duplicate = False
         for i, raw in enumerate(raw_bodies):
             body = self._body(i, raw, scale, pose)
@@ -40,19 +49,30 @@ class Validator(Bodies, Topology):
                 duplicate = True
                 continue
             bodies[body.name] = body
-        joints = [j for i, raw in enumerate(self._list(d, "joints"))
-                  if (j := self._joint(i, raw, bodies, pose, scale.get("angle"))) is not None]
+        raw_joints = self._list(d, "joints")
+        joints = [j for i, raw in enumerate(raw_joints)
+                  if (j := self._joint(i, raw, bodies, pose, scale.get("angle")))
+                  is not None]
+        # every body and joint built: only then can the loops be assembled (a partial robot
+        # would add 'no loop' or 'cannot close' to the problem already reported)
+        complete = (len(bodies) == len(raw_bodies) + 1 and len(joints) == len(raw_joints)
+                    and not (pose == "joints" and any(j.angle_rad is None for j in joints
+                                                      if not j.closes_loop)))
         before = len(self.problems)
         tree, loops = self._tree(joints, bodies)
         closing = self._assemble_option(d, pose)
         assembly = None
         if not duplicate and len(self.problems) == before and closing is not None:
-            bodies, assembly = self._drawn_pose(pose, closing, joints, tree, loops, bodies)
+            bodies, assembly = self._drawn_pose(pose, closing, joints, tree, loops, bodies,
+                                                complete)
+            if complete:  # a body or joint left out for its own problem: no count to make
+                self._mobility(tree, loops, bodies, before)
         task = self._task(d.get("task"), bodies)
         display = d.get("symbols", {})
         if not isinstance(display, dict) or not all(isinstance(v, str) for v in display.values()):
             self.err("symbols", "must be a table of parameter name = display string")
             display = {}
+        self._symbols_plausible(display)
         if self.problems:
             raise DescriptionError(self.problems)
         desc = Description(name, str(d.get("title", name)), self.path, self.sha,
@@ -63,6 +83,7 @@ class Validator(Bodies, Topology):
             self.err(f"symbols.{key}", "not a parameter of this robot")
         if self.problems:
             raise DescriptionError(self.problems)
+        self._show_warnings()
         return desc
 
     def _assemble_option(self, d: dict, pose: str | None) -> bool | None:
@@ -80,11 +101,13 @@ class Validator(Bodies, Topology):
         return value
 
     def _drawn_pose(self, pose: str, closing: bool, joints: list[Joint], tree: list[Joint],
-                    loops: list[Joint], bodies: dict[str, Body]):
+                    loops: list[Joint], bodies: dict[str, Body], complete: bool):
         """(bodies placed in the drawn pose, Assembly or None); ``joints`` in the file's order,
-        ``tree`` parents first."""
+        ``tree`` parents first; ``complete``: no body or joint left out for its own problems."""
         if pose == "world" and not closing:
-            self._closure(joints, bodies)
+            self._closure(joints, bodies)  # joint by joint: those built can be checked
+            return bodies, None
+        if not complete:
             return bodies, None
         if pose == "world":
             if not loops:
@@ -115,6 +138,22 @@ class Validator(Bodies, Topology):
         end = self._end(t, "point", "task", bodies) or ("", "")
         orient = t.get("orientation")
         if orient is not None and (not isinstance(orient, str) or orient not in bodies):
-            self.err("task.orientation", f"must name a body (got {orient!r})")
+            if not isinstance(orient, str) or orient not in self.declared:
+                self.err("task.orientation", f"must name a body (got {orient!r})")
             orient = None
         return end, orient
+
+
+def _declared(d: dict, raw_bodies: list[dict]) -> frozenset:
+    """Body names given in the file, those with problems of their own too (joints naming them
+    say nothing more); bodies under a misspelt key (``[[bodys]]``) count, and a body without a
+    usable name makes every name declared (``AnyBody``)."""
+    names = [b.get("name") for b in raw_bodies]
+    usable = [n for n in names if isinstance(n, str) and NAME.match(n) and n != GROUND]
+    if len(usable) < len(names) or len(set(usable)) < len(usable):
+        return AnyBody()
+    for key in set(d) - TOP_KEYS:
+        items = d[key] if isinstance(d[key], list) else [d[key]]
+        usable += [x["name"] for x in items
+                   if isinstance(x, dict) and isinstance(x.get("name"), str)]
+    return frozenset({GROUND, *usable})
