@@ -88,3 +88,16 @@ def test_simulate_projects_when_asked_and_reports_it():
     assert np.max(np.abs(five.constraint(sim.q[0]))) < 1e-12
     assert sim.initial_correction_rad == pytest.approx(np.max(np.abs(sim.q[0] - q0)), rel=1e-12)
     assert 1e-4 < sim.initial_correction_rad < 1e-2
+
+
+def test_large_finite_inputs_are_not_mistaken_for_infinities():
+    """as_samples checks finiteness by the sum first; a sum that overflows must fall back to
+    the entries, not refuse finite values (and a real inf is still named)."""
+    from planar_sym.errors import InputError
+    from planar_sym.model.robot import as_samples
+
+    big = np.full((3, 2), 1e308)
+    assert np.array_equal(as_samples("q", big, 2), big)
+    big[2, 1] = np.inf
+    with pytest.raises(InputError, match=r"q\[2, 1\] is inf at sample 2"):
+        as_samples("q", big, 2)

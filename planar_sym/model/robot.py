@@ -56,7 +56,7 @@ def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> 
     try:
         raw = np.asarray(a)
         complex_ = np.iscomplexobj(raw)
-        arr = raw.astype(np.float64) if not complex_ else raw
+        arr = raw.astype(np.float64, copy=False) if not complex_ else raw
     except (TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"{name} must be an array of numbers of shape (N, {width}) or "
                          f"({width},): {exc}") from None
@@ -67,8 +67,9 @@ def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> 
     if arr.ndim != 2 or arr.shape[1] != width:
         raise InputError(f"{name} must have shape (N, {width}) or ({width},), "
                          f"got {np.shape(a)}")
-    bad = ~np.isfinite(arr)
-    if bad.any():
+    # a finite sum means every entry is finite (one pass, no mask); an inf or NaN sum may be
+    # an overflow of finite values, so only then is the mask built
+    if not np.isfinite(arr.sum()) and (bad := ~np.isfinite(arr)).any():
         k, col = np.argwhere(bad)[0]
         when = f" (t = {times[k]:.6g} s)" if times is not None and k < len(times) else ""
         raise InputError(f"{name}[{k}, {col}] is {arr[k, col]} at sample {k}{when}: "
@@ -293,6 +294,8 @@ class Robot:
 
         (rates in rad/s, accelerations in rad/s^2: the allowance grows with the terms' size)
         """
+        if all(r.size == 0 or max(r.max(), -r.min()) <= LOOP_TOL_M for r in (phi, phi_v, phi_a)):
+            return  # every sample within the smallest allowance: one pass per array, no rows
         speed = np.max(np.abs(qd), axis=1)
         limits = {"Phi (m)": (phi, LOOP_TOL_M * np.ones(len(phi))),
                   "Phi_q qd (m/s)": (phi_v, LOOP_TOL_M * (1 + speed)),
