@@ -69,7 +69,9 @@ def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> 
                          f"got {np.shape(a)}")
     # a finite sum means every entry is finite (one pass, no mask); an inf or NaN sum may be
     # an overflow of finite values, so only then is the mask built
-    if not np.isfinite(arr.sum()) and (bad := ~np.isfinite(arr)).any():
+    with np.errstate(over="ignore", invalid="ignore"):  # the fallback below decides
+        total = arr.sum()
+    if not np.isfinite(total) and (bad := ~np.isfinite(arr)).any():
         k, col = np.argwhere(bad)[0]
         when = f" (t = {times[k]:.6g} s)" if times is not None and k < len(times) else ""
         raise InputError(f"{name}[{k}, {col}] is {arr[k, col]} at sample {k}{when}: "
