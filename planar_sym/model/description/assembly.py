@@ -87,7 +87,7 @@ def _gaps(bodies: dict[str, Body], loops) -> np.ndarray:
                            - _point(bodies, j.child, j.child_point) for j in loops])
 
 
-def _beyond(tree) -> dict[str, set[str]]:
+def moved_by(tree) -> dict[str, set[str]]:
     """Bodies moved by each tree joint: its child and everything hanging from it."""
     out: dict[str, set[str]] = {}
     for j in reversed(tree):  # children's sets are complete before their parents'
@@ -95,7 +95,7 @@ def _beyond(tree) -> dict[str, set[str]]:
     return out
 
 
-def _jacobian(bodies, tree, loops, beyond, free) -> np.ndarray:
+def gap_jacobian(bodies, tree, loops, beyond, free) -> np.ndarray:
     """d gaps / d angles of the joints ``free`` (exact, see the module docstring)."""
     pivots = {j.name: _point(bodies, j.parent, j.parent_point) for j in tree}
     jac = np.zeros((2 * len(loops), len(free)))
@@ -112,15 +112,15 @@ def _jacobian(bodies, tree, loops, beyond, free) -> np.ndarray:
     return jac
 
 
-def _newton(bodies, tree, loops, start, free):
+def close_loops(bodies, tree, loops, start, free):
     """Gauss-Newton from ``start`` moving the joints ``free``: (angles, placed, gaps, steps)."""
-    beyond = _beyond(tree)
+    beyond = moved_by(tree)
     angles = dict(start)
     placed = place(bodies, tree, angles)
     gap = _gaps(placed, loops)
     steps = 0
     while free and steps < MAX_ITER and np.max(np.abs(gap)) > 1e-3 * ASSEMBLY_TOL_M:
-        jac = _jacobian(placed, tree, loops, beyond, free)
+        jac = gap_jacobian(placed, tree, loops, beyond, free)
         step = np.linalg.lstsq(jac, -gap, rcond=None)[0]  # minimum norm: least motion
         step *= min(1.0, MAX_STEP_RAD / max(np.max(np.abs(step)), 1e-300))
         norm, t = np.linalg.norm(gap), 1.0
@@ -167,7 +167,7 @@ def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
     revolute = [j for j in tree if j.type == "revolute"]
     passive = [j.name for j in revolute if not j.actuated]
     gap0 = _gaps(place(bodies, tree, start), loops)
-    angles, placed, gap, steps = _newton(bodies, tree, loops, start, passive)
+    angles, placed, gap, steps = close_loops(bodies, tree, loops, start, passive)
     norms = {j.name: float(np.hypot(*gap[2 * k:2 * k + 2])) for k, j in enumerate(loops)}
     if not np.max(np.abs(gap)) < ASSEMBLY_TOL_M:
         open_ = sorted((n for n in norms if norms[n] >= ASSEMBLY_TOL_M), key=lambda n: -norms[n])

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .assembly import ASSEMBLY_TOL_M, _beyond, _jacobian, _newton, tree_angles
+from .assembly import ASSEMBLY_TOL_M, close_loops, gap_jacobian, moved_by, tree_angles
 from .types import CLOSURE_TOLERANCE_M, GROUND, Body, Joint
 
 #: A singular value of Phi_q (m: a lever arm) below this relative size counts as zero; the same
@@ -94,7 +94,7 @@ def _rank(jac: np.ndarray) -> tuple[int, np.ndarray]:
 def phi_q(bodies: dict[str, Body], tree, loops) -> np.ndarray:
     """Phi_q = d gaps / d coordinates at the bodies' placement (2c x n, m)."""
     coords = [j.name for j in tree if j.type == "revolute"]
-    return _jacobian(bodies, list(tree), list(loops), _beyond(list(tree)), coords)
+    return gap_jacobian(bodies, list(tree), list(loops), moved_by(list(tree)), coords)
 
 
 def mobility(bodies: dict[str, Body], tree, loops) -> Mobility:
@@ -123,7 +123,7 @@ def _redundant(bodies, tree, loops, m: Mobility) -> bool:
             trial = dict(start)
             for name, dv in zip(m.coordinates, v / np.max(np.abs(v))):
                 trial[name] += sign * PROBE_RAD * dv
-            angles, placed, gap, _ = _newton(bodies, tree, loops, trial, list(m.coordinates))
+            angles, placed, gap, _ = close_loops(bodies, tree, loops, trial, list(m.coordinates))
             moved = max(abs(angles[c] - start[c]) for c in m.coordinates)
             if (np.max(np.abs(gap)) < ASSEMBLY_TOL_M and moved > PROBE_RAD / 4
                     and _rank(phi_q(placed, tree, loops))[0] == m.rank):

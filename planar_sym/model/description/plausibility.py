@@ -10,6 +10,7 @@ a description is loaded several times per command.
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import threading
@@ -125,7 +126,6 @@ class Plausibility(Fields):
         """Every display name shows something in the report: not empty, valid LaTeX."""
         if not display:
             return
-        check = _latex_checker()
         for key, shown in display.items():
             fld = f"symbols.{key}"
             if not shown.strip():
@@ -134,7 +134,7 @@ class Plausibility(Fields):
             elif "$" in shown:
                 self.err(fld, f"display name {shown!r} of parameter {key} contains '$': write "
                               "it without math delimiters (the report adds them)")
-            elif check is not None and (reason := check(shown)) is not None:
+            elif (reason := _latex_problem(shown)) is not None:
                 self.err(fld, f"display name {shown!r} of parameter {key} is not valid LaTeX "
                               f"({reason}): the equation report would lose the symbol")
 
@@ -283,29 +283,35 @@ def _gravity_units(g: float, unit: str) -> str:
 
 # -- LaTeX ----------------------------------------------------------------------------------------
 
-def _latex_checker():
-    """A function display name -> None (shows fine) or why not; None without matplotlib.
+@functools.lru_cache(maxsize=1024)
+def _latex_problem(shown: str) -> str | None:
+    """Why the display name ``shown`` would not show in the report, or None (fine, or no
+    matplotlib to ask).
 
     matplotlib's mathtext parses a subset of LaTeX that holds everything a symbol name needs
     (Greek letters, sub- and superscripts, \\mathrm, \\text, accents); imported only here, for a
-    description with a [symbols] table.
+    description with a [symbols] table. Answers are kept: a description is validated several
+    times per command, and parsing its names each time cost about 18 ms per load.
     """
+    parser = _parser()
+    if parser is None:
+        return None
+    try:
+        out = parser.parse(f"${shown}$")
+    except ValueError as exc:
+        return _reason(str(exc))
+    if not out.glyphs and not out.rects:
+        return "it shows nothing"
+    return None
+
+
+@functools.lru_cache(maxsize=1)
+def _parser():
     try:
         from matplotlib.mathtext import MathTextParser
     except ImportError:  # a hard dependency; without it, only the checks above
         return None
-    parser = MathTextParser("path")
-
-    def check(shown: str) -> str | None:
-        try:
-            out = parser.parse(f"${shown}$")
-        except ValueError as exc:
-            return _reason(str(exc))
-        if not out.glyphs and not out.rects:
-            return "it shows nothing"
-        return None
-
-    return check
+    return MathTextParser("path")
 
 
 def _reason(text: str) -> str:
