@@ -1240,8 +1240,8 @@ def study_wrong_unit(ctx):
 
 
 @bad(STUDY, "a start with 3 values for a robot with a 2-coordinate task", InputError,
-     r"motion.start: serial_2dof needs 2 values, one per task coordinates \(x, y\) \(got 3\)",
-     "study.toml: motion.start: serial_2dof needs 2 values, one per task coordinates (x, y) "
+     r"motion.start: serial_2dof needs 2 values, one per task coordinate \(x, y\) \(got 3\)",
+     "study.toml: motion.start: serial_2dof needs 2 values, one per task coordinate (x, y) "
      "(got 3)")
 def study_start_width(ctx):
     _study(ctx, STUDY_OK.replace("[100.0, 100.0]", "[100.0, 100.0, 0.0]").replace(
@@ -1436,7 +1436,6 @@ def _warned(ctx: Ctx, text: str, *edits) -> None:
     raise Warned(str(shown[0].message))
 
 
-FOUR = (ROOT / "examples" / "four_bar.toml").read_text()
 TP = "tests/test_plausibility.py::"
 TC = "tests/test_cascades.py::"
 
@@ -1463,6 +1462,20 @@ def length_unit_too_small(ctx):
      TP + "test_lengths_in_mm_typed_with_m_warns")
 def length_unit_too_large(ctx):
     _warned(ctx, FOUR, ('length = "mm"', 'length = "m"'))
+
+
+@bad(DESC, "joint angles in degrees with `angle = \"rad\"` (`pose = \"joints\"`, crank at -60)",
+     Warned,
+     r"bad\.toml: joints\[0\] \(crank_joint\)\.angle: -60 rad is 9\.55 turns \(a warning "
+     r"beyond one\): the drawn pose takes it as 162\.3 deg; were the angles typed in degrees\? "
+     r"\(units\.angle = \"deg\" makes it -60 deg\)",
+     "bad.toml: joints[0] (crank_joint).angle: -60 rad is 9.55 turns (a warning beyond one): the "
+     "drawn pose takes it as 162.3 deg; were the angles typed in degrees? (units.angle = "
+     "\"deg\" makes it -60 deg)", TP + "test_joint_angles_in_degrees_typed_with_rad_warn")
+def angle_unit_slip(ctx):
+    _warned(ctx, (ROOT / "examples" / "four_bar_joints.toml").read_text(),
+            ('angle = "deg"', 'angle = "rad"'), ("angle = 60.0", "angle = -60.0"),
+            ("angle = -40.0", "angle = -0.349"), ("angle = 65.0", "angle = 2.618"))
 
 
 @bad(DESC, "a robot a kilometre across: link2's tip at `[1500.0, 0.0]` m", DescriptionError,

@@ -186,3 +186,17 @@ def test_weld_counts_three(tmp_path):
                                             'name = "coupler_joint"\ntype = "weld"')))
     assert ("a structure, not a mechanism: F = 3 x 3 moving bodies - 2 x 3 revolute joints - "
             "3 x 1 weld = 2 coordinates - 2 x 1 cut joint (B) = 0 degrees of freedom") in msg
+
+
+def test_a_robot_off_its_tree_with_another_mistake_is_refused_not_crashed(tmp_path):
+    """Found by Hypothesis: the five-bar without its name and its first and third joints has
+    loops but no coordinate on a tree that reaches every body; the count must not run on it
+    (it raised IndexError). One message: the missing name."""
+    blocks = FIVE_BAR.split("[[joints]]")
+    text = "[[joints]]".join([blocks[0], blocks[2], *blocks[4:]])
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("name = \"five"))
+    path = tmp_path / "broken.toml"
+    path.write_text(text)
+    with pytest.raises(DescriptionError) as info:
+        description.load(path)
+    assert [p.split(": ", 1)[1] for p in info.value.problems] == ["name: missing"]

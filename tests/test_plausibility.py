@@ -61,6 +61,27 @@ def warned(path: Path) -> list[str]:
     return [t.removeprefix(f"{path}: ") for t in texts]
 
 
+# -- joint angles against units.angle --------------------------------------------------------------
+
+def test_joint_angles_in_degrees_typed_with_rad_warn(tmp_path):
+    """-60 with units.angle = "rad": 9.55 turns, drawn at 162.3 deg; one warning per angle
+    beyond a turn, none for angles within one (the other two joints)."""
+    shown = warned(edited(tmp_path, FOUR_BAR_JOINTS, ('angle = "deg"', 'angle = "rad"'),
+                          ("angle = 60.0", "angle = -60.0"), ("angle = -40.0", "angle = -0.349"),
+                          ("angle = 65.0", "angle = 2.618")))
+    assert shown == [('joints[0] (crank_joint).angle: -60 rad is 9.55 turns (a warning beyond '
+                     'one): the drawn pose takes it as 162.3 deg; were the angles typed in '
+                     'degrees? (units.angle = "deg" makes it -60 deg)')]
+
+
+def test_an_angle_of_one_turn_does_not_warn(tmp_path):
+    assert types.ANGLE_TURN_RAD == pytest.approx(6.283185307179586)
+    path = edited(tmp_path, FOUR_BAR_JOINTS, ('angle = "deg"', 'angle = "rad"'),
+                  ("angle = 60.0", "angle = 6.283"), ("angle = -40.0", "angle = -0.7"),
+                  ("angle = 65.0", "angle = 1.13"))
+    assert warned(path) == []
+
+
 # -- the robot's span against units.length ------------------------------------------------------
 
 def test_lengths_in_m_typed_with_mm_is_an_error(tmp_path):

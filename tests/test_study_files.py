@@ -179,7 +179,7 @@ def test_wrong_number_of_start_values(tmp_path):
                                             "start = [60.852, 154.665, 0.0]").replace(
         "by = [30.0, 30.0]", "by = [30.0, 30.0, 0.0]"))
     with pytest.raises(InputError, match=r"motion.start: five_bar_type1 needs 2 values, one per "
-                                         r"task coordinates \(x, y\) \(got 3\)"):
+                                         r"task coordinate \(x, y\) \(got 3\)"):
         run(path)
 
 

@@ -132,8 +132,8 @@ def duration(st: specs.Study, robot: Robot) -> float:
 
 def _what(st: specs.Study, robot: Robot) -> str:
     if st.motion.space == "task":
-        return "task coordinates (" + ", ".join(robot.task_names) + ")"
-    return "actuated joints" if robot.is_closed_chain else "joints"
+        return "task coordinate (" + ", ".join(robot.task_names) + ")"
+    return "actuated joint" if robot.is_closed_chain else "joint"
 
 
 def _start_and_by(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
@@ -184,5 +184,5 @@ def profile_at(st: specs.Study, robot: Robot, t: np.ndarray | None) -> Trajector
 
 def check_width(st, fld: str, values, width: int, what: str) -> None:
     if len(values) != width:
-        raise InputError(f"{st.path or st.name}: {fld}: {st.robot} needs {width} values, one per "
-                         f"{what} (got {len(values)})")
+        raise InputError(f"{st.path or st.name}: {fld}: {st.robot} needs {width} "
+                         f"value{'' if width == 1 else 's'}, one per {what} (got {len(values)})")

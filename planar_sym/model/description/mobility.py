@@ -147,6 +147,8 @@ def problems(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
     actuated joints than F, which is why an assembly holding them fixed fails)."""
     if not loops:
         return []
+    if placed and (len(tree) < len(bodies) - 1 or not any(j.type == "revolute" for j in tree)):
+        return []  # bodies off the tree, or no coordinate: the tree stage says so, no count
     m = mobility(bodies, tree, loops) if placed else mobility({}, tree, [])
     if not placed:
         m = Mobility(m.coordinates, tuple(j.name for j in loops), m.welds,

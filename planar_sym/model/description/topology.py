@@ -7,7 +7,7 @@ import math
 
 from . import mobility
 from .fields import JOINT_KEYS, NAME, Fields
-from .types import CLOSURE_TOLERANCE_M, GROUND, Body, Joint
+from .types import ANGLE_TURN_RAD, CLOSURE_TOLERANCE_M, GROUND, Body, Joint, wrap_angle
 
 
 class Topology(Fields):
@@ -66,6 +66,12 @@ class Topology(Fields):
         value = self._num(raw, "angle", f"{f}.angle")
         if value is None or unit is None:
             return None
+        if unit == 1.0 and abs(value) > ANGLE_TURN_RAD:
+            self.warn(f"{f}.angle", f"{value:g} rad is {abs(value) / ANGLE_TURN_RAD:.3g} turns "
+                                    f"(a warning beyond one): the drawn pose takes it as "
+                                    f"{math.degrees(wrap_angle(value)):.4g} deg; were the angles "
+                                    f"typed in degrees? (units.angle = \"deg\" makes it "
+                                    f"{value:g} deg)")
         return value * unit
 
     def _end(self, raw: dict, key: str, f: str, bodies) -> tuple[str, str] | None:

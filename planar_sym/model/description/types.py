@@ -49,6 +49,11 @@ SIZE_MAX_M = 1000.0
 #: whose mass is really there should have a point there (its size then includes it).
 CG_WARN, CG_ERROR = 1.0, 10.0
 
+#: With units.angle = "rad", a joint angle (pose = "joints") beyond one turn is a warning: the
+#: drawn pose is wrapped to (-pi, pi], so more than a turn says nothing a smaller angle would
+#: not, and "angle = -60" with rad was nearly always -60 deg (it draws the joint at 162 deg).
+ANGLE_TURN_RAD = 2.0 * math.pi
+
 #: Body-frame coordinates smaller than this (m) are exact zeros: rotating a point that lies on a
 #: link's axis into the link frame leaves ~1e-17 of rounding, which must not become a parameter.
 ZERO_SNAP_M = 1e-12
