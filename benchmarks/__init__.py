@@ -4,6 +4,7 @@ Every figure is measured together with a baseline in the same run (interleaved r
 reported as median [min-max] and as a ratio to that baseline; see ``timing.py``. Sections:
 ``inverse`` (inverse dynamics vs Pinocchio, MuJoCo, lambdify, a hand-written C floor),
 ``forward`` (work-precision of forward dynamics), ``build`` (derive and compile times),
+``actuators`` (what actuator models add to derivation, generated C and compiled evaluation),
 ``imports`` (import and first-torque latency).
 """
 
@@ -36,6 +37,9 @@ class Config:
     build_robots: tuple[str, ...] = ROBOTS
     build_repeats: int = 3
     import_repeats: int = 10
+    actuator_pairs: tuple[str, ...] = ("tree", "closed")  # plain vs actuated 2-DOF, five-bar
+    actuator_rounds: int = 5  # interleaved derivations and compilations per robot
+    actuator_samples: int = 10_000
 
     @classmethod
     def quick_config(cls) -> Config:
@@ -43,4 +47,5 @@ class Config:
                    big_repeats=1, rtols=(1e-7, 1e-10), numpy_rtols=(1e-7,),
                    mujoco_dts=(1e-3, 1e-4), sim_repeats=1, radau_check=False,
                    derive_robots=("serial_2dof",),
-                   build_robots=("serial_2dof",), build_repeats=1, import_repeats=2)
+                   build_robots=("serial_2dof",), build_repeats=1, import_repeats=2,
+                   actuator_pairs=("tree",), actuator_rounds=1)

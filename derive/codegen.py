@@ -19,6 +19,7 @@ from planar_sym.model import units as _units
 from planar_sym.model.description import Description
 
 from . import simd
+from .lagrange import gravity_direction
 from .model import Model
 from .to_casadi import Translator
 
@@ -39,7 +40,8 @@ HASHED_SOURCES = tuple(sorted(
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix
 OUTPUT_KIND = {"kinetic": "scalar", "potential": "scalar", "cond": "scalar", "M": "matrix",
                "J": "matrix",
-               "phi_q": "matrix", "frames": "matrix", "dqdd_dq": "matrix", "dqdd_dqd": "matrix"}
+               "phi_q": "matrix", "frames": "matrix", "dqdd_dq": "matrix", "dqdd_dqd": "matrix",
+               "accelerations": "matrix", "cg": "matrix", "joint_points": "matrix"}
 
 
 @dataclass(frozen=True)
@@ -107,13 +109,25 @@ def functions(model: Model) -> list[Generated]:
         fn("energy", [("q", q), ("qd", qd), ("p", p)],
            [("kinetic", tr(lag.kinetic)), ("potential", tr(lag.potential))],
            "kinetic and potential energy (J)"),
-        fn("task", [("q", q), ("qd", qd), ("p", p)],
-           [("x", tr.matrix(model.task)), ("J", tr.matrix(model.task_jacobian)),
-            ("jdot_qd", tr.matrix(model.task_jdot_qd))],
-           "task coordinates x(q) (m, rad), Jacobian J = dx/dq and Jdot qd"),
         fn("frames", [("q", q), ("p", p)], [("frames", tr.matrix(model.frames))],
            "every body's frame: origin x, origin y (m), angle (rad); one row per body"),
+        # component rows, one column per body or point: each component of all bodies is
+        # contiguous per sample, which is how the runtime's Newton-Euler reads them
+        fn("body_motion", [("q", q), ("qd", qd), ("qdd", qdd), ("p", p)],
+           [("accelerations", tr.matrix(model.body_accelerations.T)),
+            ("cg", tr.matrix(model.cg_positions.T)),
+            ("joint_points", tr.matrix(model.joint_points.T))],
+           "what Newton-Euler needs, exact, one column per body (as frames' rows): cg "
+           "acceleration x, y (m/s^2) and angular acceleration (rad/s^2) rows; cg x, y (m) rows; "
+           "joint_points x, y rows, one column per joint's child point (m; the manifest's "
+           "joints: tree joints, then cuts), then per cut's parent point, then per prismatic "
+           "joint's slide axis in world axes"),
     ]
+    if model.task.shape[0]:  # a robot without [task] has no tool point to report
+        out.insert(5, fn("task", [("q", q), ("qd", qd), ("p", p)],
+                         [("x", tr.matrix(model.task)), ("J", tr.matrix(model.task_jacobian)),
+                          ("jdot_qd", tr.matrix(model.task_jdot_qd))],
+                         "task coordinates x(q) (m, rad), Jacobian J = dx/dq and Jdot qd"))
     if con.count == 0:
         qdd_free = ca.solve(M, tau - h)
         out.append(fn("forward_dynamics", [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
@@ -286,6 +300,37 @@ def _text_header(model: Model, file: str, digest: str, mark: str = "#") -> str:
             f"{mark} input hash: sha256:{digest}\n{mark} do not edit: run `make derive`\n\n")
 
 
+def _joints(desc: Description) -> list[dict]:
+    """Every joint, tree joints (parents first) then cuts: what the runtime needs to find the
+    load each joint carries (its bodies, points, coordinate index, slide axis)."""
+    coords = {name: i for i, name in enumerate(desc.coordinates)}
+    return [{"name": j.name, "type": j.type, "parent": j.parent, "parent_point": j.parent_point,
+             "child": j.child, "child_point": j.child_point,
+             "coordinate": coords.get(j.name) if not j.closes_loop else None,
+             "actuated": j.actuated, "closes_loop": j.closes_loop,
+             "axis": list(j.axis) if j.axis is not None else None}
+            for j in (*desc.tree_joints, *desc.loop_joints)]
+
+
+def _actuators(desc: Description) -> list[dict]:
+    """Every actuated coordinate's actuator: gear ratio and limits (SI, joint side unless
+    named motor); an ideal source (ratio 1, no limits) where the description gives none. The
+    gear ratio is also the parameter ``gear_<joint>`` where given, which the runtime prefers."""
+    out = []
+    for k, j in enumerate(j for j in desc.tree_joints if j.moves):
+        if not j.actuated:
+            continue
+        a = j.actuator
+        out.append({"joint": j.name, "coordinate": k,
+                    "unit": "N" if j.type == "prismatic" else "N*m",
+                    "model": a is not None,
+                    "gear_ratio": a.gear_ratio if a else 1.0,
+                    "torque_limit": a.torque_limit if a else None,
+                    "motor_torque_limit": a.motor_torque_limit if a else None,
+                    "motor_speed_limit_rad_s": a.motor_speed_limit_rad_s if a else None})
+    return out
+
+
 def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> bytes:
     desc = model.desc
     funcs = {}
@@ -307,12 +352,15 @@ def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> 
         "input_hash": digest,
         "toolchain": {"casadi": ca.__version__, "sympy": sp.__version__},
         "coordinates": list(desc.coordinates),
-        "coordinate_units": "rad",
+        "coordinate_units": list(desc.coordinate_units),
         "actuated": list(desc.actuated),
         "q_drawn": list(desc.q_drawn()),
         "task": list(desc.task_names),
         "bodies": list(model.body_names),
         "loops": [j.name for j in desc.loop_joints],
+        "joints": _joints(desc),
+        "actuators": _actuators(desc),
+        "gravity_direction": [float(c) for c in gravity_direction(desc)],
         "constraints": model.constraints.count,
         "parameters": [{"name": p.name, "value": p.value, "unit": p.unit, "meaning": p.meaning}
                        for p in desc.parameters()],

@@ -37,10 +37,17 @@ class Rotated:
         return sp.Matrix([x, y])
 
     def speed_squared(self, rate) -> sp.Expr:
-        """|d/dt position|^2 with ``rate(theta)`` the time derivative of an angle.
+        """|d/dt position|^2 with ``rate(e)`` the time derivative of an expression in q.
 
-        Uses v_k^T R(theta_l - theta_k) v_l = cos(D)(v_k . v_l) - sin(D)(v_k x v_l).
+        Uses v_k^T R(theta_l - theta_k) v_l = cos(D)(v_k . v_l) - sin(D)(v_k x v_l). A vector
+        that a prismatic joint lengthens (v_k depends on q) moves as well as turns: its term's
+        velocity is R(theta_k) w_k with w_k = theta_k' J v_k + v_k' (J the quarter turn), and
+        the same identity applies to the w's.
         """
+        coords = _coords(rate)
+        if any((sp.sympify(v[0]).free_symbols | sp.sympify(v[1]).free_symbols) & coords
+               for _, v in self.terms):
+            return self._speed_squared_sliding(rate)
         total = sp.S.Zero
         for k, (tk, vk) in enumerate(self.terms):
             for l_, (tl, vl) in enumerate(self.terms[k:], start=k):
@@ -50,6 +57,24 @@ class Rotated:
                 term = rate(tk) * rate(tl) * (sp.cos(d) * dot - sp.sin(d) * cross)
                 total += term if l_ == k else 2 * term
         return total
+
+    def _speed_squared_sliding(self, rate) -> sp.Expr:
+        w = [(tk, (-rate(tk) * vk[1] + rate(vk[0]), rate(tk) * vk[0] + rate(vk[1])))
+             for tk, vk in self.terms]
+        total = sp.S.Zero
+        for k, (tk, wk) in enumerate(w):
+            for l_, (tl, wl) in enumerate(w[k:], start=k):
+                d = sp.expand(tl - tk)
+                dot = wk[0] * wl[0] + wk[1] * wl[1]
+                cross = wk[0] * wl[1] - wk[1] * wl[0]
+                term = sp.cos(d) * dot - sp.sin(d) * cross
+                total += term if l_ == k else 2 * term
+        return total
+
+
+def _coords(rate) -> set:
+    """The coordinate symbols a ``rate`` differentiates with respect to."""
+    return set(rate.coordinates)
 
 
 @dataclass(frozen=True)
@@ -76,27 +101,45 @@ def frames(desc: Description, s: Symbols) -> dict[str, Frame]:
     k = 0
     for j in desc.tree_joints:
         parent = out[j.parent]
+        joint_at = parent.point(body_vec(desc, s, j.parent, j.parent_point))
         if j.type == "revolute":
             angle = parent.angle + s.q[k]
             k += 1
-        else:  # weld: the drawn relative angle, a constant
+        else:  # weld and prismatic: the drawn relative angle, a constant
             rel = desc.bodies[j.child].drawn_angle_rad - desc.bodies[j.parent].drawn_angle_rad
             angle = parent.angle + (sp.Float(rel) if rel else sp.S.Zero)
-        joint_at = parent.point(body_vec(desc, s, j.parent, j.parent_point))
+        if j.type == "prismatic":
+            # the child point slides along the axis (parent frame) from its drawn offset
+            travel = s.param(f"s0_{j.name}") + s.q[k]
+            k += 1
+            ux, uy = (_exact(c) for c in j.axis)
+            joint_at = joint_at + Rotated(((parent.angle, (travel * ux, travel * uy)),))
         sc = body_vec(desc, s, j.child, j.child_point)
         out[j.child] = Frame(angle, joint_at + Rotated(((angle, (-sc[0], -sc[1])),)))
     return out
 
 
-def angle_rate(s: Symbols):
-    """d/dt of an angle that is linear in q."""
-    def rate(theta: sp.Expr) -> sp.Expr:
-        return sum((sp.diff(theta, qi) * qdi for qi, qdi in zip(s.q, s.qd)), sp.S.Zero)
-    return rate
+def _exact(c: float) -> sp.Expr:
+    """An axis component as an exact number where it is one (0, +-1), else a Float."""
+    return sp.Integer(int(c)) if c in (0.0, 1.0, -1.0) else sp.Float(c)
+
+
+class angle_rate:
+    """d/dt of an expression in q: an angle (linear in q) or a slide length."""
+
+    def __init__(self, s: Symbols):
+        self.s = s
+        self.coordinates = frozenset(s.q)
+
+    def __call__(self, e: sp.Expr) -> sp.Expr:
+        return sum((sp.diff(e, qi) * qdi for qi, qdi in zip(self.s.q, self.s.qd)), sp.S.Zero)
 
 
 def task(desc: Description, s: Symbols, fr: dict[str, Frame]) -> sp.Matrix:
-    """Task coordinates: tool point (m) and, where the task has one, orientation phi (rad)."""
+    """Task coordinates: tool point (m) and, where the task has one, orientation phi (rad);
+    none (0 rows) for a robot without ``[task]``."""
+    if desc.task_point is None:
+        return sp.zeros(0, 1)
     body, point = desc.task_point
     x = fr[body].point(body_vec(desc, s, body, point)).position()
     if desc.task_orientation:

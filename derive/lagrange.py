@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from planar_sym.model.description import GROUND, Description
+from planar_sym.model.description import COULOMB_SMOOTHING, GROUND, Description
 
 from .kinematics import Frame, angle_rate, body_vec
 from .symbols import Symbols
@@ -28,11 +28,12 @@ class Lagrangian:
     coriolis: sp.Matrix  # C(q, qd), from the Christoffel symbols
     coriolis_qd: sp.Matrix  # C(q, qd) qd
     gravity: sp.Matrix  # g(q) = dV/dq
+    friction: sp.Matrix  # D(qd): actuators' viscous and (smoothed) Coulomb friction
 
     @property
     def bias(self) -> sp.Matrix:
-        """h(q, qd) = C(q, qd) qd + g(q)."""
-        return (self.coriolis_qd + self.gravity).applyfunc(_tidy)
+        """h(q, qd) = C(q, qd) qd + g(q) + D(qd)."""
+        return (self.coriolis_qd + self.gravity + self.friction).applyfunc(_tidy)
 
 
 def _tidy(e: sp.Expr) -> sp.Expr:
@@ -62,6 +63,7 @@ def derive(desc: Description, s: Symbols, fr: dict[str, Frame]) -> Lagrangian:
         kinetic += m * cg.speed_squared(rate) / 2 + izz * rate(fr[name].angle) ** 2 / 2
         pos = cg.position()
         potential += -m * g * (ux * pos[0] + uy * pos[1])
+    kinetic += _rotors(desc, s, fr, rate)
     kinetic, potential = sp.expand(kinetic), sp.expand(potential)
     mass = sp.hessian(kinetic, s.qd).applyfunc(_tidy)
     n = len(s.q)
@@ -73,4 +75,28 @@ def derive(desc: Description, s: Symbols, fr: dict[str, Frame]) -> Lagrangian:
                  - sp.diff(mass[j, k], s.q[i])) * s.qd[k] / 2 for k in range(n)))
     gravity = sp.Matrix([_tidy(sp.diff(potential, qi)) for qi in s.q])
     coriolis_qd = (coriolis * sp.Matrix(s.qd)).applyfunc(_tidy)
-    return Lagrangian(kinetic, potential, mass, coriolis, coriolis_qd, gravity)
+    return Lagrangian(kinetic, potential, mass, coriolis, coriolis_qd, gravity,
+                      _friction(desc, s))
+
+
+def _rotors(desc: Description, s: Symbols, fr: dict[str, Frame], rate) -> sp.Expr:
+    """Kinetic energy of the actuators' rotors: 1/2 J_m (w_parent + N qd_j)^2, the stator on
+    the joint's parent body (exact, not only the reflected N^2 J_m)."""
+    total = sp.S.Zero
+    for k, j in enumerate(j for j in desc.tree_joints if j.moves):
+        jm = s.param(f"jm_{j.name}")
+        if j.actuator is None or jm == 0:
+            continue
+        ratio = s.by_name.get(f"gear_{j.name}", sp.S.One)
+        total += jm * (rate(fr[j.parent].angle) + ratio * s.qd[k]) ** 2 / 2
+    return total
+
+
+def _friction(desc: Description, s: Symbols) -> sp.Matrix:
+    """D(qd): per coordinate, b qd + c tanh(qd / v_s) of its actuator (0 without one)."""
+    rows = []
+    for k, j in enumerate(j for j in desc.tree_joints if j.moves):
+        b, c = s.param(f"fv_{j.name}"), s.param(f"fc_{j.name}")
+        smooth = s.by_name.get(f"vs_{j.name}", sp.Float(COULOMB_SMOOTHING))
+        rows.append(b * s.qd[k] + (c * sp.tanh(s.qd[k] / smooth) if c != 0 else 0))
+    return sp.Matrix(rows)

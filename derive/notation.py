@@ -24,7 +24,7 @@ RANK = {"inertia": 0, "mass": 1, "lumped": 2, "gravity": 3, "length": 4, "other"
 
 
 #: names the report itself uses; a display name must not be one of them
-_RESERVED = re.compile(r"^([cs][0-9_]+|q(d|dd)?[0-9]+|tau[0-9]+|g[0-9]+|M[0-9]+|C[0-9]+|"
+_RESERVED = re.compile(r"^([cs][0-9_]+|q(d|dd)?[0-9]+|d(d|dd)?[0-9]+|f[0-9]+|tau[0-9]+|g[0-9]+|D[0-9]+|M[0-9]+|C[0-9]+|"
                        r"Phi[0-9]*|gamma[0-9]*|lambda[0-9]*|T|V|L|pi_[0-9]+|alpha|beta|delta|"
                        r"epsilon|zeta|eta|theta|kappa|mu|nu|xi|rho|sigma|chi|psi|omega)$")
 
@@ -79,10 +79,11 @@ class Notation:
                     else "gravity" if p.name == "g" else "length")
             self.add(shown, kind, shown.name, sp.latex(shown))
         for i, (q, qd, qdd, tau) in enumerate(zip(s.q, s.qd, s.qdd, s.tau), start=1):
-            self.add(q, "other", q.name, f"q_{{{i}}}", (f"q{i:04d}",))
-            self.add(qd, "rate", qd.name, rf"\dot{{q}}_{{{i}}}", (i,))
-            self.add(qdd, "accel", qdd.name, rf"\ddot{{q}}_{{{i}}}", (i,))
-            self.add(tau, "force", tau.name, rf"\tau_{{{i}}}", (i,))
+            c = q.name[0]  # q, or d for a prismatic joint's displacement
+            self.add(q, "other", q.name, f"{c}_{{{i}}}", (f"q{i:04d}",))
+            self.add(qd, "rate", qd.name, rf"\dot{{{c}}}_{{{i}}}", (i,))
+            self.add(qdd, "accel", qdd.name, rf"\ddot{{{c}}}_{{{i}}}", (i,))
+            self.add(tau, "force", tau.name, f"f_{{{i}}}" if c == "d" else rf"\tau_{{{i}}}", (i,))
 
     def add(self, sym: sp.Symbol, kind: str, text: str, latex: str, key: tuple = ()) -> None:
         self.info[sym] = Info(RANK[kind], key or (sym.name,), text, latex)

@@ -54,6 +54,8 @@ def build(model: Model) -> Report:
                  [nt.compact(lag.gravity[i]) for i in range(n)])
     _check_lumped(d)
     sec = [_energy(d), _euler_lagrange(d), *_mass(d), _coriolis(d), _gravity(d)]
+    if any(f != 0 for f in lag.friction):
+        sec.append(_friction(d, nt))
     if model.constraints.count:
         sec += closed_sections(model, nt)
     return Report(model.desc.name, model.desc.title, _preamble(model, nt), sec, _table(model),
@@ -100,9 +102,11 @@ def _euler_lagrange(d: _Derived) -> Section:
         terms += nt.grouped(d.cqd[i], trig).terms
         if d.grav[i] != 0:
             terms.append(Prod(sp.S.One, [(nt.symbol(f"g{i + 1}", "other", f"g_{{{i + 1}}}"), 1)]))
+        if d.model.lagrangian.friction[i] != 0:
+            terms.append(Prod(sp.S.One, [(nt.symbol(f"D{i + 1}", "other", f"D_{{{i + 1}}}"), 1)]))
         act = i in desc.actuated
-        lhs = ([f"tau{i + 1}"] if act else []) + ([f"(Phi_q^T lambda){i + 1}"] if closed else [])
-        tex = (([rf"\tau_{{{i + 1}}}"] if act else [])
+        lhs = ([s.tau[i].name] if act else []) + ([f"(Phi_q^T lambda){i + 1}"] if closed else [])
+        tex = (([nt.info[s.tau[i]].latex] if act else [])
                + ([rf"(\Phi_q^\top \lambda)_{{{i + 1}}}"] if closed else []))
         el.eqs.append(Eq((" + ".join(lhs), " + ".join(tex)), Sum(terms)))
     return el
@@ -156,6 +160,15 @@ def _gravity(d: _Derived) -> Section:
                     for i, g in enumerate(d.grav)])
 
 
+def _friction(d: _Derived, nt: Notation) -> Section:
+    """The actuators' friction D(qd), in the equations of motion as D_i."""
+    fr = d.model.lagrangian.friction
+    return Section(("Actuator friction ", m("D(qd)", r"D(\dot q)"),
+                    " (joint side: viscous b qd + Coulomb c tanh(qd / v_s), smoothed over v_s)"),
+                   [Eq(m(f"D{i + 1}", f"D_{{{i + 1}}}"), nt.grouped(nt.compact(f)))
+                    for i, f in enumerate(fr) if f != 0])
+
+
 def _check_lumped(d: _Derived) -> None:
     """The lumped forms must expand to the derived ones exactly: nothing printed is unchecked."""
     lag, nt, lp, n = d.model.lagrangian, d.nt, d.lp, len(d.M)
@@ -170,26 +183,36 @@ def _check_lumped(d: _Derived) -> None:
 
 def _preamble(model: Model, nt: Notation) -> list[Rich]:
     desc = model.desc
-    coords = ", ".join(f"q{i + 1} = {c}" for i, c in enumerate(desc.coordinates))
-    act = ", ".join(f"q{i + 1}" for i in desc.actuated)
+    q = model.sym.q  # q<i> for an angle, d<i> for a prismatic joint's displacement
+    coords = ", ".join(f"{q[i].name} = {c}" for i, c in enumerate(desc.coordinates))
+    act = ", ".join(q[i].name for i in desc.actuated)
     trig = sorted(nt.defs, key=lambda t: nt.info[t].key)
     note: list = ["Notation: "]
     for k, t in enumerate(trig):
         note += [", " if k else "", m(f"{t.name} = {nt.defs[t][0]}",
                                       f"{nt.info[t].latex} = {nt.defs[t][1]}")]
     note += ["; ", m("qd, qdd", r"\dot q, \ddot q"), (": joint rates (rad/s) and accelerations "
-             "(rad/s^2); parameters by the names in the symbol table below.")]
-    return [(f"Coordinates (rad): {coords}; actuated: {act}.",), tuple(note)]
+             "(rad/s^2)")]
+    if "m" in desc.coordinate_units:
+        note += ["; ", m("d, dd, ddd, f", r"d, \dot d, \ddot d, f"),
+                 (": a prismatic joint's displacement from the drawn pose (m), its rate (m/s), "
+                  "acceleration (m/s^2) and force (N)")]
+    note += ["; parameters by the names in the symbol table below."]
+    units = "rad" if "m" not in desc.coordinate_units else "rad; d: m"
+    return [(f"Coordinates ({units}): {coords}; actuated: {act}.",), tuple(note)]
 
 
 def _table(model: Model) -> list[dict[str, str]]:
     desc = model.desc
     units = tomllib.loads(desc.path.read_text()).get("units", {})
-    kind = {"m_": "mass", "izz_": "inertia", "g": "acceleration"}
+    kind = {"m_": "mass", "izz_": "inertia", "jm_": "inertia", "cg": "length", "px_": "length",
+            "py_": "length", "s0_": "length"}
     rows = []
     for p in desc.parameters():
-        q = next((v for k, v in kind.items() if p.name.startswith(k)), "length")
-        seed_unit = units.get(q, SI[q]) if isinstance(units.get(q, SI[q]), str) else SI[q]
+        q = "acceleration" if p.name == "g" else next(
+            (v for k, v in kind.items() if p.name.startswith(k)), None)
+        seed_unit = (SI[q] if q is None or not isinstance(units.get(q, SI[q]), str)
+                     else units.get(q, SI[q])) if q else p.unit
         seed = ""
         if seed_unit != p.unit:
             seed = f"{p.value / factor(q, seed_unit):.10g} {seed_unit}"

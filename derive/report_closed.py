@@ -41,7 +41,7 @@ def sections(model: Model, nt: Notation) -> list[Section]:
 
 def _multipliers(model: Model) -> Section:
     desc = model.desc
-    act = ", ".join(f"q{i + 1}" for i in desc.actuated)
+    act = ", ".join(model.sym.q[i].name for i in desc.actuated)
     mult = Section(("Multiplier equation (loop reaction forces)",))
     # a LaTeX line break mid-line is eaten by GitHub's Markdown: each "\\" ends a source line
     mult.eqs = [

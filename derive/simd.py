@@ -32,7 +32,8 @@ _BINARY = {ca.OP_ADD: "({} + {})", ca.OP_SUB: "({} - {})", ca.OP_MUL: "({} * {})
 _UNARY = {ca.OP_NEG: "(-{})", ca.OP_SIN: "sin({})", ca.OP_COS: "sin({} + M_PI_2)",
           ca.OP_TAN: "tan({})", ca.OP_SQ: "({0} * {0})", ca.OP_SQRT: "sqrt({})",
           ca.OP_TWICE: "(2.0 * {})", ca.OP_INV: "(1.0 / {})", ca.OP_FABS: "fabs({})",
-          ca.OP_EXP: "exp({})", ca.OP_LOG: "log({})", ca.OP_ASSIGN: "{}"}
+          ca.OP_EXP: "exp({})", ca.OP_LOG: "log({})", ca.OP_ASSIGN: "{}",
+          ca.OP_TANH: "tanh({})"}
 
 PRELUDE = """#include <math.h>
 /* samples per block: outputs are stored per block in sample-contiguous order (which gcc

@@ -26,12 +26,14 @@ class Symbols:
 
 
 def make_symbols(desc: Description) -> Symbols:
-    n = len(desc.coordinates)
     real = {"real": True}
-    q = tuple(sp.Symbol(f"q{i + 1}", **real) for i in range(n))
-    qd = tuple(sp.Symbol(f"qd{i + 1}", **real) for i in range(n))
-    qdd = tuple(sp.Symbol(f"qdd{i + 1}", **real) for i in range(n))
-    tau = tuple(sp.Symbol(f"tau{i + 1}", **real) for i in range(n))
+    # a prismatic joint's displacement is d<i> (m), its rates dd<i>, ddd<i>, its force f<i>
+    slide = [u == "m" for u in desc.coordinate_units]
+    q = tuple(sp.Symbol(f"{'d' if sl else 'q'}{i + 1}", **real) for i, sl in enumerate(slide))
+    qd = tuple(sp.Symbol(f"{'dd' if sl else 'qd'}{i + 1}", **real) for i, sl in enumerate(slide))
+    qdd = tuple(sp.Symbol(f"{'ddd' if sl else 'qdd'}{i + 1}", **real)
+                for i, sl in enumerate(slide))
+    tau = tuple(sp.Symbol(f"{'f' if sl else 'tau'}{i + 1}", **real) for i, sl in enumerate(slide))
     p = tuple(sp.Symbol(par.name, positive=par.name.startswith(("m_", "g")), **real)
               for par in desc.parameters())
     return Symbols(q, qd, qdd, tau, p, {s.name: s for s in p})

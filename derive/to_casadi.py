@@ -6,7 +6,7 @@ import casadi as ca
 import sympy as sp
 
 _FUNCS = {sp.sin: ca.sin, sp.cos: ca.cos, sp.tan: ca.tan, sp.exp: ca.exp, sp.log: ca.log,
-          sp.atan2: ca.atan2, sp.sqrt: ca.sqrt, sp.Abs: ca.fabs}
+          sp.atan2: ca.atan2, sp.sqrt: ca.sqrt, sp.Abs: ca.fabs, sp.tanh: ca.tanh}
 
 
 class Translator:

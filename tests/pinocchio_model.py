@@ -1,5 +1,21 @@
 """The Pinocchio model of a description, shared with the benchmarks (one builder, one place)."""
 
-from benchmarks.baselines.pinocchio_model import pinocchio_model, rotz, xyz
+import sys
+from pathlib import Path
 
-__all__ = ["pinocchio_model", "rotz", "xyz"]
+# `python -m pytest` puts the project root on sys.path, the `pytest` script does not: the
+# builder lives in benchmarks/ (no package install), so make the root importable either way
+_ROOT = str(Path(__file__).resolve().parent.parent)
+if _ROOT not in sys.path:
+    sys.path.insert(0, _ROOT)
+
+from benchmarks.baselines.pinocchio_model import (
+    PinocchioTree,
+    depth_first,
+    pinocchio_model,
+    pinocchio_tree,
+    rotz,
+    xyz,
+)
+
+__all__ = ["PinocchioTree", "depth_first", "pinocchio_model", "pinocchio_tree", "rotz", "xyz"]

@@ -46,7 +46,10 @@ def test_run_writes_csv_and_png(tmp_path, capsys):
     assert sorted(p.name for p in out.iterdir()) == [f"{name}.csv", f"{name}.png"]
     lines = (out / f"{name}.csv").read_text().splitlines()
     assert lines[0] == ("t_s,x_mm,y_mm,q1_rad,q2_rad,qd1_rad_s,qd2_rad_s,qdd1_rad_s2,qdd2_rad_s2,"
-                        "tau1_n_m,tau2_n_m")
+                        "tau1_n_m,tau2_n_m,"
+                        "jfx_joint1_n,jfy_joint1_n,jload_joint1_n,"
+                        "jfx_weld_motor2_n,jfy_weld_motor2_n,jload_weld_motor2_n,"
+                        "jm_weld_motor2_n_m,jfx_joint2_n,jfy_joint2_n,jload_joint2_n,p1_w,p2_w")
     assert len(lines) == 1 + 11
     table = np.loadtxt(lines[1:], delimiter=",")
     ref = run(name, 11)

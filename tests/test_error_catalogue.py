@@ -146,9 +146,9 @@ def toml_syntax(ctx):
 
 
 @bad(DESC, "unknown key, a typo: `mas = 0.071`", DescriptionError,
-     r"bad\.toml: bodies\[0\]\.mas: unknown key \(known: cg, cg_from, frame, izz, mass, name, "
+     r"bad\.toml: bodies\[0\]\.mas: unknown key \(known: cg, cg_from, frame, izz, mass, mass_at, name, "
      r"notes, points\)(.|\n)*bodies\[0\] \(link1\)\.mass: missing",
-     "bad.toml: bodies[0].mas: unknown key (known: cg, cg_from, frame, izz, mass, name, notes, "
+     "bad.toml: bodies[0].mas: unknown key (known: cg, cg_from, frame, izz, mass, mass_at, name, notes, "
      "points)\nbad.toml: bodies[0] (link1).mass: missing",
      TD + "test_unknown_key_typo")
 def unknown_key(ctx):
@@ -314,11 +314,12 @@ def task_unknown_body(ctx):
     _desc(ctx, SERIAL, ('point = "link2.CS2"', 'point = "link3.CS2"'))
 
 
-@bad(DESC, "joint type `prismatic`", DescriptionError,
-     r"bad\.toml: joints\[0\] \(joint1\)\.type: must be 'revolute' or 'weld' \(got 'prismatic'\)",
-     "bad.toml: joints[0] (joint1).type: must be 'revolute' or 'weld' (got 'prismatic')")
+@bad(DESC, "joint type `slider`", DescriptionError,
+     r"bad\.toml: joints\[0\] \(joint1\)\.type: must be 'revolute', 'prismatic' or 'weld' "
+     r"\(got 'slider'\)",
+     "bad.toml: joints[0] (joint1).type: must be 'revolute', 'prismatic' or 'weld' (got 'slider')")
 def joint_type(ctx):
-    _desc(ctx, SERIAL, ('type = "revolute"', 'type = "prismatic"'))
+    _desc(ctx, SERIAL, ('type = "revolute"', 'type = "slider"'))
 
 
 @bad(DESC, "an actuated weld", DescriptionError,
@@ -419,8 +420,9 @@ def unknown_symbol(ctx):
 
 @bad(DESC, "an unknown built-in robot name: `description.load(\"six_bar\")`", DescriptionError,
      r"unknown robot 'six_bar'; built in: .*five_bar_type1, .*serial_2dof, serial_3dof",
-     "unknown robot 'six_bar'; built in: five_bar_type1, five_bar_type2, parallel_3rrr, "
-     "serial_2dof, serial_3dof")
+     "unknown robot 'six_bar'; built in: five_bar_type1, five_bar_type2, parallel_3rpr, "
+     "parallel_3rrr, serial_2dof, serial_3dof, serial_rpr, slider_crank, "
+     "slider_crank_slider_driven")
 def unknown_builtin(ctx):
     description.load("six_bar")
 
@@ -789,11 +791,12 @@ def torque_inf(ctx):
 # -- generated files and compiled libraries --------------------------------------------------------
 
 @bad(FILES, "an unknown robot name: `ps.load(\"six_bar\")`", LibraryError,
-     r"unknown robot 'six_bar': not a built-in robot \(five_bar_type1, .*, serial_3dof\), nor a "
+     r"unknown robot 'six_bar': not a built-in robot \(five_bar_type1, .*\), nor a "
      r"description file \(\.toml\) or a generated folder \(a path\)",
      "unknown robot 'six_bar': not a built-in robot (five_bar_type1, five_bar_type2, "
-     "parallel_3rrr, serial_2dof, serial_3dof), nor a description file (.toml) or a generated "
-     "folder (a path)")
+     "parallel_3rpr, parallel_3rrr, serial_2dof, serial_3dof, serial_rpr, slider_crank, "
+     "slider_crank_slider_driven), nor a description file (.toml) or a generated folder (a "
+     "path)")
 def never_derived(ctx):
     ps.load("six_bar")
 
@@ -1590,12 +1593,144 @@ def body_name_missing(ctx):
 
 @bad(DESC, "a misspelt joint type `type = \"welded\"` (one message: no 'actuated' missing)",
      DescriptionError,
-     r"(?:\A|:\n  \S*)bad\.toml: joints\[1\] \(weld_motor2\)\.type: must be 'revolute' or "
-     r"'weld' \(got 'welded'\)\Z",
-     "bad.toml: joints[1] (weld_motor2).type: must be 'revolute' or 'weld' (got 'welded')",
+     r"(?:\A|:\n  \S*)bad\.toml: joints\[1\] \(weld_motor2\)\.type: must be 'revolute', "
+     r"'prismatic' or 'weld' \(got 'welded'\)\Z",
+     "bad.toml: joints[1] (weld_motor2).type: must be 'revolute', 'prismatic' or 'weld' (got "
+     "'welded')",
      TC + "test_one_mistake_one_message")
 def joint_type_misspelt(ctx):
     _desc(ctx, SERIAL, ('type = "weld"', 'type = "welded"'))
+
+
+# -- joint loads (planar_sym.dynamics.reactions) ------------------------------------------------
+
+def _old_folder(ctx) -> Robot:
+    """serial_2dof from a generated folder derived before joint loads: its manifest has no
+    joints, no gravity direction and no body_motion function."""
+    folder = ctx.generated_copy()
+    manifest = json.loads((folder / "manifest.json").read_text())
+    for key in ("joints", "gravity_direction"):
+        manifest.pop(key)
+    manifest["functions"].pop("body_motion")
+    (folder / "manifest.json").write_text(json.dumps(manifest, indent=2))
+    return Robot("serial_2dof", Library("serial_2dof", folder=folder))
+
+
+@bad(FILES, "joint loads (`joint_loads`, a study's `jfx_` columns) of a robot whose generated "
+     "folder was derived before them", LibraryError,
+     r"serial_2dof: the generated code in \S*serial_2dof predates joint loads \(its manifest "
+     r"lists no joints\): re-derive it \(`make derive`, or `planar-sym derive` for your own "
+     r"robot\)",
+     "serial_2dof: the generated code in generated/serial_2dof predates joint loads (its "
+     "manifest lists no joints): re-derive it (`make derive`, or `planar-sym derive` for your "
+     "own robot)")
+def joint_loads_old_folder(ctx):
+    from planar_sym.dynamics.reactions import joint_loads
+
+    joint_loads(_old_folder(ctx), [0.1, 0.2], [0.0, 0.0], [0.0, 0.0])
+
+
+@bad(FILES, "`Robot.body_motion` of a robot whose generated folder was derived before it",
+     LibraryError,
+     r"serial_2dof: the generated code in \S*serial_2dof predates body_motion \(joint loads "
+     r"need it\): re-derive it \(`make derive`, or `planar-sym derive` for your own robot\)",
+     "serial_2dof: the generated code in generated/serial_2dof predates body_motion (joint "
+     "loads need it): re-derive it (`make derive`, or `planar-sym derive` for your own robot)")
+def body_motion_old_folder(ctx):
+    _old_folder(ctx).body_motion([0.1, 0.2], [0.0, 0.0], [0.0, 0.0])
+
+
+@bad(ARRAYS, "a joint the robot does not have: `loads.index(\"elbow\")` of serial_2dof's "
+     "joint loads", InputError,
+     r"no joint 'elbow'; joints: joint1, weld_motor2, joint2",
+     "no joint 'elbow'; joints: joint1, weld_motor2, joint2")
+def joint_loads_unknown_joint(ctx):
+    from planar_sym.dynamics.reactions import joint_loads
+
+    joint_loads(_arm(), [0.1, 0.2], [0.0, 0.0], [0.0, 0.0]).index("elbow")
+
+
+
+# -- prismatic joints, point masses and actuators (issue 11) --------------------------------------
+CART = (TEST_ROBOTS / "cart_pole.toml").read_text()
+ACT = (TEST_ROBOTS / "actuated_2dof.toml").read_text()
+TS = "tests/test_sliders.py::"
+TA = "tests/test_actuators.py::"
+
+
+@bad(DESC, "a prismatic joint's axis of zero length `axis = [0.0, 0.0]`", DescriptionError,
+     r"bad\.toml: joints\[0\] \(slide\)\.axis: must have a length \(got \[0\.0, 0\.0\]: zero "
+     r"length, no direction to slide along\)",
+     "bad.toml: joints[0] (slide).axis: must have a length (got [0.0, 0.0]: zero length, no "
+     "direction to slide along)", TS + "test_bad_prismatic_joints")
+def prismatic_axis_zero(ctx):
+    _desc(ctx, CART, ("axis = [1.0, 0.0]", "axis = [0.0, 0.0]"))
+
+
+@bad(DESC, "a prismatic joint whose axis misses its child point", DescriptionError,
+     r"bad\.toml: joints \(slide\): prismatic joint's axis does not pass both its points: "
+     r"cart\.C is 49\.75\d* mm off the line through ground\.rail",
+     "bad.toml: joints (slide): prismatic joint's axis does not pass both its points: cart.C is "
+     "49.7519 mm off the line through ground.rail along the axis [0.995037, 0.0995037] in the "
+     "drawn configuration (tolerance 0.01 mm): the child point slides along the axis through "
+     "the parent point", TS + "test_bad_prismatic_joints")
+def prismatic_axis_off_points(ctx):
+    _desc(ctx, CART, ("axis = [1.0, 0.0]", "axis = [1.0, 0.1]"))
+
+
+@bad(DESC, "a loop cut at a prismatic joint", DescriptionError,
+     r"bad\.toml: joints\[0\] \(slide\)\.closes_loop: a loop cannot be cut at a prismatic "
+     r"joint",
+     "bad.toml: joints[0] (slide).closes_loop: a loop cannot be cut at a prismatic joint (its "
+     "cut would need a slide and an angle equation, not the two point equations of a revolute "
+     "cut): cut the loop at one of its revolute joints, and make this one a tree joint "
+     "(closes_loop = false)", TS + "test_a_loop_cut_at_a_prismatic_joint_is_refused")
+def prismatic_cut(ctx):
+    _desc(ctx, CART, ('child = "cart.C"\nactuated = true',
+                      'child = "cart.C"\nactuated = false\ncloses_loop = true'))
+
+
+@bad(DESC, "a point mass (`mass_at`) given a cg as well", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(rod\)\.cg: not with mass_at",
+     "bad.toml: bodies[0] (rod).cg: not with mass_at (a point mass at 'bob': its centre of "
+     "gravity is that point and its inertia about it is 0)",
+     TS + "test_mass_at_refuses_izz_and_cg")
+def mass_at_with_cg(ctx):
+    _desc(ctx, (TEST_ROBOTS / "point_pendulum.toml").read_text(),
+          ('mass_at = "bob"\n', 'mass_at = "bob"\ncg = [0.1, 0.0]\n'))
+
+
+@bad(DESC, "a gear ratio of zero", DescriptionError,
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.gear_ratio: must be > 0 \(got 0\)",
+     "bad.toml: joints[0] (joint1).actuator.gear_ratio: must be > 0 (got 0): motor turns per "
+     "joint turn (rad per m for a prismatic joint), > 0", TA + "test_bad_actuators")
+def gear_ratio_zero(ctx):
+    _desc(ctx, ACT, ("gear_ratio = 50", "gear_ratio = 0"))
+
+
+@bad(DESC, "a negative rotor inertia", DescriptionError,
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.rotor_inertia: must be >= 0 "
+     r"\(got -0\.5\)",
+     "bad.toml: joints[0] (joint1).actuator.rotor_inertia: must be >= 0 (got -0.5): rotor "
+     "inertia about its axis, in [units].inertia, >= 0", TA + "test_bad_actuators")
+def rotor_inertia_negative(ctx):
+    _desc(ctx, ACT, ("rotor_inertia = 0.5", "rotor_inertia = -0.5"))
+
+
+@bad(DESC, "a limit that is not positive", DescriptionError,
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.torque_limit: must be > 0 \(got 0\)",
+     "bad.toml: joints[0] (joint1).actuator.torque_limit: must be > 0 (got 0): largest joint "
+     "torque (force), N*m (N), > 0", TA + "test_bad_actuators")
+def torque_limit_zero(ctx):
+    _desc(ctx, ACT, ("torque_limit = 0.8", "torque_limit = 0"))
+
+
+@bad(DESC, "an actuator on a passive joint", DescriptionError,
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuator: only an actuated joint has an actuator",
+     "bad.toml: joints[0] (joint1).actuator: only an actuated joint has an actuator (actuated = "
+     "true)", TA + "test_an_actuator_on_a_passive_joint_is_refused")
+def actuator_on_passive_joint(ctx):
+    _desc(ctx, ACT, ("actuated = true\n[joints.actuator]", "actuated = false\n[joints.actuator]"))
 
 
 # -- the test ---------------------------------------------------------------------------------------

@@ -204,9 +204,16 @@ def _items(data, key) -> list:
 
 def _required(data: dict):
     """Paths whose deletion is an error for certain."""
-    out = [(k,) for k in ("name", "units", "gravity", "ground", "bodies", "joints", "task")
+    # [task] is optional (a robot with no end-effector), and a unit is required only where a
+    # field is in it: inertia for an izz, angle for a joint angle
+    out = [(k,) for k in ("name", "units", "gravity", "ground", "bodies", "joints")
            if k in data]
-    out += [("units", q) for q in UNITS if q in _table(data, "units")]
+    used = {"length", "mass", "acceleration"}
+    if any("izz" in b for _, b in _items(data, "bodies")):
+        used.add("inertia")
+    if any("angle" in j for _, j in _items(data, "joints")):
+        used.add("angle")
+    out += [("units", q) for q in UNITS if q in _table(data, "units") and q in used]
     if "points" in _table(data, "ground"):
         out.append(("ground", "points"))
     if "point" in _table(data, "task"):

@@ -145,6 +145,11 @@ def test_singular_drawn_pose(tmp_path):
     (ROOT / "tests" / "robots" / "bent_arm.toml", 2),
     (ROOT / "tests" / "robots" / "horizontal_2dof.toml", 2),
     (ROOT / "tests" / "robots" / "pendulum.toml", 1),
+    # with prismatic joints (issue 11): the coordinate count takes them like revolute joints
+    ("slider_crank", 1), ("slider_crank_slider_driven", 1), ("serial_rpr", 3),
+    ("parallel_3rpr", 3), (ROOT / "tests" / "robots" / "cart_pole_incline.toml", 2),
+    (ROOT / "tests" / "robots" / "actuated_2dof.toml", 2),
+    (ROOT / "tests" / "robots" / "point_pendulum.toml", 1),
 ])
 def test_dof_of_every_robot_that_ships(robot, dof):
     m = mobility.of(description.load(robot))
@@ -154,8 +159,13 @@ def test_dof_of_every_robot_that_ships(robot, dof):
 
 
 def test_test_robots_are_all_counted():
+    """Every test robot is in the table above, but cart_pole.toml (its hinge is passive, so its
+    2 degrees of freedom have 1 motor: an underactuated tree, tests/test_sliders.py)."""
     assert sorted(p.name for p in (ROOT / "tests" / "robots").glob("*.toml")) == [
-        "bent_arm.toml", "horizontal_2dof.toml", "pendulum.toml"]
+        "actuated_2dof.toml", "bent_arm.toml", "cart_pole.toml", "cart_pole_incline.toml",
+        "horizontal_2dof.toml", "pendulum.toml", "point_pendulum.toml"]
+    m = mobility.of(description.load(ROOT / "tests" / "robots" / "cart_pole.toml"))
+    assert m.dof == m.gruebler == 2 and len(m.actuated) == 1
 
 
 def test_cli_refuses_in_one_line_and_leaves_nothing(tmp_path, monkeypatch, capsys):

@@ -24,6 +24,10 @@ SEED_STUDIES = ("serial_2dof_free_swing", "serial_2dof_joint_move", "serial_2dof
                 "serial_3dof_cartesian_move", "five_bar_type1_move_x", "five_bar_type1_move_y",
                 "five_bar_type2_move_x", "five_bar_type2_move_y", "parallel_3rrr_move_x",
                 "parallel_3rrr_move_y")
+#: the built-in studies of robots with prismatic joints (issue 11), checked in
+#: tests/test_prismatic_robots.py
+PRISMATIC_STUDIES = ("slider_crank_turn", "slider_crank_slider_driven_stroke",
+                     "serial_rpr_tool_move", "parallel_3rpr_move_x")
 
 
 def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
@@ -43,7 +47,7 @@ def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
 
 
 def test_the_built_in_studies_are_the_seed_scenarios():
-    assert tuple(builtin.names()) == tuple(sorted(SEED_STUDIES))
+    assert tuple(builtin.names()) == tuple(sorted(SEED_STUDIES + PRISMATIC_STUDIES))
 
 
 @pytest.mark.parametrize("name", SEED_STUDIES)
@@ -92,7 +96,9 @@ def test_inverse_csv_holds_rates_and_accelerations_with_units():
     for k in range(1, 5):
         assert {f"q{k}_rad", f"qd{k}_rad_s", f"qdd{k}_rad_s2"} <= set(header)
     assert [h for h in header if h.startswith("tau")] == ["tau1_n_m", "tau3_n_m"]  # A and E
-    assert header[-2:] == ["fx_C_n", "fy_C_n"]
+    cut = header.index("fx_C_n")  # the cut force, then every joint's load, then the power
+    assert header[cut:cut + 2] == ["fx_C_n", "fy_C_n"]
+    assert header[-2:] == ["p1_w", "p3_w"]
     # rates and accelerations are consistent with the positions: the corrected trapezoid rule
     # q(k+1) - q(k) = h (qd(k) + qd(k+1)) / 2 + h^2 (qdd(k) - qdd(k+1)) / 12 + O(h^5)
     t = result.columns["t_s"]

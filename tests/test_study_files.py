@@ -190,7 +190,7 @@ def test_move_command_equals_the_study_file(tmp_path, capsys):
                  "--duration", "1.5", "--samples", "151", "--out", str(out),
                  "--save-study", str(saved)]) == 0
     printed = capsys.readouterr().out
-    assert "five_bar_type1_move: wrote" in printed and "peak |tau| N*m" in printed
+    assert "five_bar_type1_move: wrote" in printed and "peak |tau|: tau1 " in printed and " N*m" in printed
     table = np.genfromtxt(out / "five_bar_type1_move.csv", delimiter=",", names=True)
     ref = run(write(tmp_path, DIAGONAL))
     np.testing.assert_array_equal(table["tau3_n_m"], ref.columns["tau3_n_m"])

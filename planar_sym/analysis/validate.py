@@ -149,7 +149,10 @@ def _sympy_reference(model, p, states) -> dict[str, np.ndarray]:
              "x": model.task, "J": model.task_jacobian, "jdot_qd": model.task_jdot_qd,
              "frames": model.frames, "phi": con.phi, "phi_q": con.jacobian,
              "gamma": con.accel_bias, "dh_dq": h.jacobian(s.q), "dh_dqd": h.jacobian(s.qd),
-             "dM": sp.Matrix.hstack(*[M.diff(qk) for qk in s.q])}
+             "dM": sp.Matrix.hstack(*[M.diff(qk) for qk in s.q]),
+             # body_motion's outputs: one component per row, one body (or point) per column
+             "accelerations": model.body_accelerations.T, "cg": model.cg_positions.T,
+             "joint_points": model.joint_points.T}
     keys = list(exprs)
     fn = sp.lambdify([*s.q, *s.qd, *s.qdd, *s.tau, *s.p], [exprs[k] for k in keys], "numpy")
     out: dict[str, list] = {k: [] for k in [*keys, "qdd", "dqdd_dq", "dqdd_dqd"]}

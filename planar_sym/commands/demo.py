@@ -88,13 +88,25 @@ def index_text(results, robots: list[str]) -> str:
              "parts, and an animation), and every robot in its drawn configuration. "
              "Column units are in the CSV headers (`t_s`, `q1_rad`, `qd1_rad_s`, `tau1_n_m`, ...).")
     lines = ["# planar-sym demo results", "", about, "", "## Studies", "",
-             "| study | what | peak abs(torque) per joint (N*m) | files |",
+             "| study | what | peak abs(torque) per joint (N*m; N for a slider) | files |",
              "|---|---|---|---|"]
     for r in results:
         files = " · ".join(f"[{label}]({r.name}{suffix})" for label, suffix in (
             ("CSV", ".csv"), ("plot", ".png"), ("split", "_split.png"),
             ("animation", ".gif")))
         lines.append(f"| `{r.name}` | {r.summary} | {peaks_text(r)} | {files} |")
+    from ..study.sizing import table
+
+    sized = [r for r in results if r.sizing]
+    if sized:
+        lines += ["", "## Actuator sizing", "",
+                  ("What each actuator delivers over each inverse-dynamics study: torque (force "
+                   "for a prismatic joint) at the joint and at the motor (through the gear "
+                   "ratio; 1 where the robot gives no actuator), speed, power and net energy; a "
+                   "limit the robot's actuator gives is checked, and the first time it is "
+                   "exceeded named.")]
+        for r in sized:
+            lines += ["", f"### {r.name}", "", table(r.sizing)]
     lines += ["", "## Robots", "", "| robot | what | drawing |", "|---|---|---|"]
     for robot in robots:
         lines.append(f"| `{robot}` | {load_description(robot).title} | "

@@ -82,10 +82,21 @@ def animate_study(st, path: Path, frames: int = 60, fps: float = 20.0, dpi: int 
 
 
 def report(done, name: str, quiet: bool) -> None:
+    import sys
+
     result, paths = done
+    for s in result.sizing:  # a limit exceeded is never silent, not even with --quiet
+        for sentence in s.exceeded:
+            print(f"{name}: warning: actuator limit exceeded: {sentence}", file=sys.stderr)
     if quiet:
         return
-    peaks = ", ".join(f"{k} {v:.4g}" for k, v in result.peak_torques().items())
-    extra = f" (peak |tau| N*m: {peaks})" if peaks else ""
+    units = {c.split("_")[0]: ("N" if c.endswith("_n") else "N*m") for c in result.torques()}
+    peaks = ", ".join(f"{k} {v:.4g} {units[k]}" for k, v in result.peak_torques().items())
+    extra = f" (peak |tau|: {peaks})" if peaks else ""
     solver = f" [{result.solver}]" if result.solver else ""
     print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}{solver}")
+    for s in result.sizing:
+        if s.gear_ratio != 1.0 or s.exceeded:
+            print(f"  {s.joint}: motor peak {s.peak_motor_torque_n_m:.4g} N*m, RMS "
+                  f"{s.rms_motor_torque_n_m:.4g} N*m, peak {s.peak_motor_speed_rpm:.4g} rpm "
+                  f"(gear {s.gear_ratio:g}); peak power {s.peak_power_w:.4g} W")

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, WorkspaceError
+from ..errors import InputError, LibraryError, WorkspaceError
 from .library import Library, builtin_generated_dirs, fastcall
 
 #: a Jacobian whose condition number exceeds this is called singular. Near a singularity the
@@ -92,11 +92,21 @@ class Robot:
         self.name = m["robot"]
         self.title = m["title"]
         self.coordinates: tuple[str, ...] = tuple(m["coordinates"])
+        units = m.get("coordinate_units", "rad")  # one string in manifests before sliders
+        #: "rad" (revolute) or "m" (prismatic) per coordinate; torques are N*m or N alike
+        self.coordinate_units: tuple[str, ...] = (
+            tuple(units) if isinstance(units, list) else (units,) * len(self.coordinates))
         self.actuated: tuple[int, ...] = tuple(m["actuated"])
         self.task_names: tuple[str, ...] = tuple(m["task"])
         self.body_names: tuple[str, ...] = tuple(m["bodies"])
         self.n_constraints: int = m["constraints"]
         self.loops: tuple[str, ...] = tuple(m["loops"])
+        #: per actuated coordinate: joint, coordinate, unit, gear ratio and limits (SI); an
+        #: ideal source (ratio 1, no limits) for a manifest from before actuator models
+        self.actuators: tuple[dict, ...] = tuple(m.get("actuators") or (
+            {"joint": self.coordinates[i], "coordinate": i, "unit": "N*m", "model": False,
+             "gear_ratio": 1.0, "torque_limit": None, "motor_torque_limit": None,
+             "motor_speed_limit_rad_s": None} for i in self.actuated))
         self.q_drawn = np.array(m["q_drawn"])
         self.parameter_list = tuple(Parameter(**p) for p in m["parameters"])
         p = np.array([x.value for x in self.parameter_list]) if parameters is None else parameters
@@ -132,6 +142,8 @@ class Robot:
             methods.update(constraint="constraint", constraint_jacobian="constraint_jacobian",
                            constraint_bias="constraint_bias",
                            _closed_inverse_dynamics="closed_inverse_dynamics")
+        if "body_motion" in self.library.manifest["functions"]:  # folders derived before lack it
+            methods.update(body_motion="body_motion")
         kinds = {"scalar": 0, "vector": 1, "matrix": 2}
         for attr, quantity in methods.items():
             spec = self.library.manifest["functions"][quantity]
@@ -166,6 +178,11 @@ class Robot:
             return robots_dir() / f"{self.name}.toml"
         copy = self.library.folder / "description.toml"
         return copy if copy.is_file() else None
+
+    @property
+    def has_friction(self) -> bool:
+        """Whether an actuator's friction dissipates energy (a free motion then loses it)."""
+        return any(p.name.startswith(("fv_", "fc_")) for p in self.parameter_list)
 
     @property
     def is_closed_chain(self) -> bool:
@@ -337,6 +354,9 @@ class Robot:
 
     def task(self, q, qd=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Task coordinates x (m, rad), Jacobian J = dx/dq and Jdot qd at each sample."""
+        if not self.task_names:
+            raise InputError(f"{self.name} has no task point (its description has no [task]): "
+                             "give [task] point = 'body.point' for task coordinates and moves")
         q = as_samples("q", q, self.n) if np.ndim(q) != 1 else as_samples("q", q, self.n)[0]
         qd = np.zeros_like(q) if qd is None else qd
         r, s = self._call("task", q=q, qd=qd)
@@ -346,6 +366,31 @@ class Robot:
         """Origin (m) and angle (rad) of every body frame, shape (N, bodies, 3)."""
         r, s = self._call("frames", q=q)
         return self._out(r["frames"], s)
+
+    def body_motion(self, q, qd, qdd) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What Newton-Euler needs, exact (derived, no differences), in one compiled call.
+
+        Component first (each component of every body contiguous per sample):
+
+        Returns
+        -------
+        accelerations : ndarray, shape (N, 3, bodies)
+            Centre of gravity acceleration x, y (m/s^2, world axes) and angular acceleration
+            (rad/s^2), bodies as ``body_names``.
+        cg : ndarray, shape (N, 2, bodies)
+            Centre of gravity x, y (m).
+        joint_points : ndarray, shape (N, 2, joints + cuts + prismatic joints)
+            x and y of every joint's child point (m; the manifest's ``joints`` order: tree
+            joints, then cuts), then of every cut's parent point (m), then of every prismatic
+            joint's slide axis in world axes (unit vector).
+        """
+        if "body_motion" not in self._fns:
+            raise LibraryError(f"{self.name}: the generated code in {self.library.folder} "
+                               "predates body_motion (joint loads need it): re-derive it "
+                               "(`make derive`, or `planar-sym derive` for your own robot)")
+        r, s = self._call("body_motion", q=q, qd=qd, qdd=qdd)
+        return tuple(self._out(r[k], s)  # type: ignore[return-value]
+                     for k in ("accelerations", "cg", "joint_points"))
 
     def constraint(self, q) -> np.ndarray:
         """Loop-closure residual Phi(q) (m), shape (N, 2 * loops)."""

@@ -67,7 +67,8 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
             q[pas] -= np.linalg.solve(jp, phi)
         else:
             raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {_when(t, k)} "
-                                 f"for actuated angles {np.round(qa, 9).tolist()} rad "
+                                 f"for actuated coordinates {np.round(qa, 9).tolist()} "
+                                 f"({', '.join(robot.coordinate_units[i] for i in act)}) "
                                  f"(|Phi| = {np.max(np.abs(phi)):.3g} m): outside the workspace")
         out[k] = q
     return out

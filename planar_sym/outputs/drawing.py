@@ -27,6 +27,8 @@ class Geometry:
 
     points: dict[tuple[str, str], np.ndarray]
     cgs: dict[str, np.ndarray]
+    #: every body's frame angle (rad), shape (N,); the ground's is 0
+    angles: dict[str, np.ndarray] | None = None
 
     def extent(self) -> tuple[np.ndarray, np.ndarray]:
         """Lower-left and upper-right corners (m) of everything, the world origin included."""
@@ -58,19 +60,21 @@ def geometry(desc: Description, body_names, frames: np.ndarray) -> Geometry:
     n = len(frames)
     points = {(GROUND, p): np.tile(xy, (n, 1))
               for p, xy in desc.bodies[GROUND].points_m.items()}
-    cgs = {}
+    cgs, angles = {}, {GROUND: np.zeros(n)}
     for k, name in enumerate(body_names):
         body = desc.bodies[name]
         points.update({(name, p): to_world(frames[:, k], xy) for p, xy in body.points_m.items()})
         cgs[name] = to_world(frames[:, k], body.cg_m)
-    return Geometry(points, cgs)
+        angles[name] = frames[:, k, 2]
+    return Geometry(points, cgs, angles)
 
 
 def joint_roles(desc: Description) -> list[tuple[str, tuple[str, str], str]]:
     """(name, (body, point) where it is drawn, role) of every revolute joint.
 
     Role is ``"actuated"``, ``"passive"`` or ``"cut"`` (a loop-closing joint); welds are not
-    joints a reader needs to see: the welded body is drawn instead.
+    joints a reader needs to see: the welded body is drawn instead; prismatic joints are drawn
+    as sliders (``Scene._sliders``).
     """
     out = []
     for j in (*desc.tree_joints, *desc.loop_joints):
@@ -166,6 +170,7 @@ class Scene:
         self._ground()
         self._base_frame()
         self._bodies()
+        self._sliders(geo)
         self._joints()
         self._cgs_and_task()
         if labels:
@@ -213,6 +218,40 @@ class Scene:
             art.set_gid(f"body:{name}")
             self._move(art, *[self.pts[(name, p)] for p in order])
 
+    def _sliders(self, geo: Geometry) -> None:
+        """Each prismatic joint as a slider: a rail on the parent body along the axis, through
+        the parent point and over the whole travel shown, and a block on the child point."""
+        from matplotlib.patches import Polygon
+
+        for j in self.desc.tree_joints:
+            if j.type != "prismatic":
+                continue
+            ang = geo.angles[j.parent] if geo.angles else np.zeros(len(self.pts[
+                (j.parent, j.parent_point)]))
+            ux, uy = j.axis
+            u = np.column_stack([np.cos(ang) * ux - np.sin(ang) * uy,
+                                 np.sin(ang) * ux + np.cos(ang) * uy])
+            n = np.column_stack([-u[:, 1], u[:, 0]])
+            a, b = self.pts[(j.parent, j.parent_point)], self.pts[(j.child, j.child_point)]
+            travel = np.sum((b - a) * u, axis=1)
+            block = 0.07 * self.span  # mm
+            lo = min(0.0, float(travel.min())) - block
+            hi = max(0.0, float(travel.max())) + block
+            rail, = self.ax.plot([], [], "-", lw=2.5, color="dimgray", zorder=2,
+                                 solid_capstyle="butt")
+            rail.set_gid(f"rail:{j.name}")
+            self._move(rail, a + lo * u, a + hi * u)
+            half_l, half_w = block / 2, 0.022 * self.span
+            corners = [b + sl * half_l * u + sw * half_w * n
+                       for sl, sw in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+            art = self.ax.add_patch(Polygon(np.zeros((4, 2)), closed=True, zorder=5, lw=1.4,
+                                            facecolor="black" if j.actuated else "white",
+                                            edgecolor="black"))
+            art.set_gid(f"joint:{j.name}")
+            self._move(art, *corners)
+            if self.labels:
+                self._label(j.name, (j.child, j.child_point))
+
     def _joints(self) -> None:
         style = {"actuated": {"mfc": "black", "mec": "black"},
                  "passive": {"mfc": "white", "mec": "black"},
@@ -236,9 +275,10 @@ class Scene:
             self._move(ring, self.cgs[name])
             self._move(quarters, self.cgs[name])
         task = self.desc.task_point
-        art, = self.ax.plot([], [], "*", ms=15, color="crimson", mec="black", zorder=8)
-        art.set_gid("task")
-        self._move(art, self.pts[task])
+        if task is not None:
+            art, = self.ax.plot([], [], "*", ms=15, color="crimson", mec="black", zorder=8)
+            art.set_gid("task")
+            self._move(art, self.pts[task])
         if self.labels:
             for key, text in point_labels(self.desc).items():
                 self._label(f"{text} (task)" if key == task else text, key)
@@ -262,6 +302,11 @@ class Scene:
                    mark(marker="*", ms=12, color="crimson", mec="black")]
         names = ["actuated joint", "passive joint", "cut joint (loop closure)",
                  "centre of gravity", "task point"]
+        if self.desc.task_point is None:  # no end-effector: no task star to explain
+            handles, names = handles[:-1], names[:-1]
+        if any(j.type == "prismatic" for j in self.desc.tree_joints):
+            handles.append(mark(marker="s", ms=9, mfc="white", mec="black"))
+            names.append("slider (prismatic joint;\n filled: actuated)")
         self.ax.legend(handles, names, loc="upper left", bbox_to_anchor=(1.02, 1.0),
                        fontsize=8, frameon=False)
 
@@ -337,7 +382,9 @@ def drawing_figure(robot_name: str, q=None):
     fig = new_figure((8.0, 6.0))
     ax = fig.add_subplot()
     Scene(ax, desc, geo, labels=True)
-    angles = ", ".join(f"{c} {np.degrees(v):.2f}" for c, v in zip(coordinates, q))
-    ax.set_title(f"{desc.name}: {which}\n{desc.title}\nq (deg): {angles}", fontsize=8)
+    units = desc.coordinate_units
+    angles = ", ".join(f"{c} {v * 1e3:.2f} mm" if u == "m" else f"{c} {np.degrees(v):.2f} deg"
+                       for c, v, u in zip(coordinates, q, units))
+    ax.set_title(f"{desc.name}: {which}\n{desc.title}\nq: {angles}", fontsize=8)
     tight(fig)
     return fig

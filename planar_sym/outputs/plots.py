@@ -7,6 +7,7 @@ threads), and a notebook still shows a returned Figure.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -60,18 +61,38 @@ def _finish(fig, axes, result: Result, title: str) -> None:
     fig.set_layout_engine(None)
 
 
+#: a joint's bearing load column: jload_<joint>_n, |F| in N (study.run.load_columns)
+JOINT_LOAD = re.compile(r"^jload_(\w+)_n$")
+
+
 def figure(result: Result):
-    """A matplotlib Figure of a result (joint angles in deg, or torques in N*m, against t in s)."""
+    """A matplotlib Figure of a result (joint angles in deg, or torques in N*m, against t in s).
+
+    Below the torques of an inverse-dynamics result, one more axis: every joint's bearing load
+    ``|F|`` (N), the ``jload_<joint>_n`` columns.
+    """
     if result.kind == "angles":
         series, label, scale = result.angles(), "joint angle {} (deg)", 180 / np.pi
     else:
         series, label, scale = result.torques(), "torque {} (N*m)", 1.0
-    fig, axes = _axes(len(series))
+    loads = {m.group(1): v for k, v in result.columns.items() if (m := JOINT_LOAD.match(k))}
+    fig, axes = _axes(len(series) + bool(loads))
     t = result.columns["t_s"]
     for ax, (key, values) in zip(axes, series.items()):
-        ax.plot(t, values * scale, lw=1.6)
-        ax.set_ylabel(label.format(key.split("_")[0]))
+        # a prismatic joint: a force tau<k>_n (N), a displacement q<k>_m (drawn in mm)
+        force = key.endswith("_m" if result.kind == "angles" else "_n")
+        ax.plot(t, values * (1e3 if result.kind == "angles" and force else scale), lw=1.6)
+        which = key.split("_")[0]
+        ax.set_ylabel((f"joint {which} (mm)" if result.kind == "angles" else f"force {which} (N)")
+                      if force else label.format(which))
         ax.grid(True, alpha=0.4)
+    if loads:
+        ax = axes[-1]
+        for joint, values in loads.items():
+            ax.plot(t, values, lw=1.3, label=joint)
+        ax.set_ylabel("joint load |F| (N)")
+        ax.grid(True, alpha=0.4)
+        ax.legend(fontsize=7, ncol=min(len(loads), 5), loc="best")
     _finish(fig, axes, result, result.summary)
     return fig
 
@@ -90,12 +111,14 @@ def split_figure(result: Result):
     coords = list(result.actuated) or list(range(n_act))
     for k, ax in enumerate(axes):
         name = f"tau{coords[k] + 1}"
-        total = result.columns.get(f"{name}_n_m", sum(p[:, k] for p in parts))
+        force = f"{name}_n" in result.columns  # a prismatic joint's force (N)
+        total = result.columns.get(f"{name}_n_m", result.columns.get(f"{name}_n",
+                                                                     sum(p[:, k] for p in parts)))
         ax.plot(t, total, color="black", lw=2.2, label=f"{name} (total)")
         for part, label, colour in zip(parts, SPLIT_PARTS.values(), SPLIT_COLOURS):
             ax.plot(t, part[:, k], color=colour, lw=1.3, label=label)
         ax.axhline(0.0, color="grey", lw=0.6)
-        ax.set_ylabel(f"torque {name} (N*m)")
+        ax.set_ylabel(f"force {name} (N)" if force else f"torque {name} (N*m)")
         ax.grid(True, alpha=0.4)
     axes[0].legend(fontsize=7, ncol=4, loc="best")
     # cut-joint force columns mark a closed chain, whose parts went through the multiplier solve
@@ -120,8 +143,9 @@ def plot(result: Result, split: bool = False):
     ----------
     result : Result
     split : bool
-        False: joint angles (deg) or torques (N*m) against time (s). True: each actuated
-        torque (N*m) with its parts ``M qdd``, ``C qd`` and ``g``.
+        False: joint angles (deg) or torques (N*m) against time (s), with every joint's
+        bearing load (N) under the torques. True: each actuated torque (N*m) with its parts
+        ``M qdd``, ``C qd`` and ``g``.
     """
     if not isinstance(result, Result):
         from ..errors import InputError

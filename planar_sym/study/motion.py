@@ -45,12 +45,18 @@ START_POSE_GAP_M = 1e-3
 STATE_GAP_M = 1e-9
 
 
+def coordinate_scale(st: specs.Study, robot: Robot) -> np.ndarray:
+    """SI factor of each coordinate as a study file gives it: its length unit for a prismatic
+    joint, its angle unit for a revolute one."""
+    return np.array([st.length_si if u == "m" else st.angle_si for u in robot.coordinate_units])
+
+
 def start_pose(st: specs.Study, robot: Robot) -> np.ndarray | None:
     """``motion.start_pose`` in rad; a closed chain's must be roughly assembled."""
     if st.motion.start_pose is None:
         return None
     check_width(st, "motion.start_pose", st.motion.start_pose, robot.n, "coordinate")
-    q = np.array(st.motion.start_pose) * st.angle_si
+    q = np.array(st.motion.start_pose) * coordinate_scale(st, robot)
     _check_loops(st, robot, "motion.start_pose", q, START_POSE_GAP_M)
     return q
 
@@ -64,18 +70,22 @@ def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray
     if robot.is_closed_chain and len(s.q0) == n_act:
         from ..motion.closure import complete_rates, solve_passive
 
-        qa = np.array(s.q0) * st.angle_si
-        qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0) * st.angle_si
+        scale = coordinate_scale(st, robot)[list(robot.actuated)]
+        qa = np.array(s.q0) * scale
+        qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0)
         check_width(st, "simulation.qd0", qda, n_act, "actuated joint")
+        qda = qda * scale
         q0 = solve_passive(robot, qa[None])[0]
         qd0, _ = complete_rates(robot, q0[None], qda[None], np.zeros((1, n_act)))
         return q0, qd0[0]
     what = "coordinate (or actuated joint, for a closed chain)" if robot.is_closed_chain \
         else "coordinate"
     check_width(st, "simulation.q0", s.q0, robot.n, what)
-    q0 = np.array(s.q0) * st.angle_si
-    qd0 = np.zeros(robot.n) if s.qd0 is None else np.array(s.qd0) * st.angle_si
+    scale = coordinate_scale(st, robot)
+    q0 = np.array(s.q0) * scale
+    qd0 = np.zeros(robot.n) if s.qd0 is None else np.array(s.qd0)
     check_width(st, "simulation.qd0", qd0, robot.n, "coordinate")
+    qd0 = qd0 * scale
     _check_loops(st, robot, "simulation.q0", q0, STATE_GAP_M)
     if robot.is_closed_chain:
         rate = np.abs(robot.constraint_jacobian(q0).reshape(robot.n_constraints, robot.n) @ qd0)
@@ -102,12 +112,15 @@ def _check_loops(st, robot: Robot, fld: str, q: np.ndarray, limit: float) -> Non
 
 
 def channel_scale(st: specs.Study, robot: Robot) -> np.ndarray:
-    """SI factor of each motion channel: lengths for x, y; angles for phi and joints."""
+    """SI factor of each motion channel: lengths for x, y and prismatic joints; angles for phi
+    and revolute joints."""
     m = st.motion
     if m.space == "task":
         return np.array([st.angle_si if n == "phi" else st.length_si for n in robot.task_names])
-    width = len(robot.actuated) if robot.is_closed_chain else robot.n
-    return np.full(width, st.angle_si)
+    coords = robot.actuated if robot.is_closed_chain else range(robot.n)
+    # a joint move is in the file's angle unit, a prismatic joint's in its length unit
+    return np.array([st.length_si if robot.coordinate_units[i] == "m" else st.angle_si
+                     for i in coords])
 
 
 def trajectory(st: specs.Study, robot: Robot, samples: int | None = None) -> Trajectory:
@@ -149,7 +162,8 @@ def table_columns(st: specs.Study, robot: Robot) -> list[list[str]]:
         return [[f"{n}_rad", f"{n}_deg"] if n == "phi" else [f"{n}_mm", f"{n}_m"]
                 for n in robot.task_names]
     coords = robot.actuated if robot.is_closed_chain else range(robot.n)
-    return [[f"q{i + 1}_rad", f"q{i + 1}_deg"] for i in coords]
+    return [[f"q{i + 1}_m", f"q{i + 1}_mm"] if robot.coordinate_units[i] == "m"
+            else [f"q{i + 1}_rad", f"q{i + 1}_deg"] for i in coords]
 
 
 def _table(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:

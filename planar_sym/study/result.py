@@ -8,9 +8,21 @@ from dataclasses import dataclass, field
 import numpy as np
 
 #: the column holding a coordinate's torque: tau<k>_n_m, k numbering the robot's coordinates
-TORQUE = re.compile(r"^tau(\d+)_n_m$")
-#: a coordinate's angle column
-ANGLE = re.compile(r"^q(\d+)_rad$")
+#: (a prismatic joint's force: tau<k>_n)
+TORQUE = re.compile(r"^tau(\d+)_n(_m)?$")
+#: a coordinate's angle column (a prismatic joint's displacement: q<k>_m)
+ANGLE = re.compile(r"^q(\d+)_(rad|m)$")
+
+#: column suffixes of a coordinate by its unit: value, rate, acceleration, torque or force
+SUFFIXES = {"rad": ("rad", "rad_s", "rad_s2", "n_m"), "m": ("m", "m_s", "m_s2", "n")}
+
+
+def coordinate_column(kind: str, k: int, unit: str) -> str:
+    """The column name of coordinate ``k`` (0-based) for ``kind`` ``q``, ``qd``, ``qdd`` or
+    ``tau``, its unit in the name: ``q1_rad``, ``qd2_m_s``, ``tau1_n_m``, ``tau2_n`` (a
+    prismatic joint's force)."""
+    suffix = SUFFIXES[unit][("q", "qd", "qdd", "tau").index(kind)]
+    return f"{kind}{k + 1}_{suffix}"
 
 
 @dataclass(frozen=True)
@@ -22,7 +34,9 @@ class Result:
     ``split`` holds the actuated torques split into parts (keys of
     ``dynamics.inverse.SPLIT_PARTS``: inertial ``M qdd``, velocity ``C qd``, gravity ``g``), each
     (N, actuated) in N*m, summing to the torques; it is not written to the CSV. ``solver`` names
-    the inverse kinematics that ran; ``actuated`` the actuated coordinates (0-based).
+    the inverse kinematics that ran; ``actuated`` the actuated coordinates (0-based); ``sizing``
+    one ``study.sizing.ActuatorSizing`` per actuator (peaks, RMS, power, energy, limits
+    exceeded with the time), inverse dynamics only.
     """
 
     name: str
@@ -34,6 +48,8 @@ class Result:
     robot: str = ""
     solver: str = ""
     actuated: tuple[int, ...] = ()
+    #: what each actuator must deliver (inverse dynamics; ``study.sizing``), () otherwise
+    sizing: tuple = ()
 
     def table(self) -> np.ndarray:
         return np.column_stack(list(self.columns.values()))
@@ -47,8 +63,8 @@ class Result:
         return {k: v for k, v in self.columns.items() if ANGLE.match(k)}
 
     def peak_torques(self) -> dict[str, float]:
-        """Largest magnitude (N*m) of each torque column, keyed ``tau<k>``."""
-        return {k.removesuffix("_n_m"): float(np.max(np.abs(v)))
+        """Largest magnitude (N*m, or N for a force) of each torque column, keyed ``tau<k>``."""
+        return {k.split("_")[0]: float(np.max(np.abs(v)))
                 for k, v in self.torques().items()}
 
     def csv_text(self) -> str:

@@ -6,7 +6,9 @@ Columns (one header row in the CSV): ``t_s``; the task coordinates (``x_mm``, ``
 dynamics, acceleration ``qdd<k>_rad_s2`` (k numbers the robot's coordinates, passive joints of
 closed chains included); the torque at each actuated coordinate ``tau<k>_n_m`` (same k); for
 closed chains the reaction force at each cut joint ``fx_<joint>_n``, ``fy_<joint>_n`` (N, world
-axes, on the cut joint's parent body); for forward dynamics ``energy_j``.
+axes, on the cut joint's parent body); for inverse dynamics every joint's load (``load_columns``:
+``jfx_<joint>_n``, ``jfy_<joint>_n``, ``jload_<joint>_n``, ``jm_<joint>_n_m``, ``jfn_<joint>_n``,
+the parent body on the child body); for forward dynamics ``energy_j``.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..dynamics.inverse import torque_split
+from ..dynamics.reactions import JointLoads, joint_loads
 from ..errors import InputError
 from ..model.locate import load
 from ..model.robot import Robot
@@ -24,7 +27,8 @@ from . import spec as specs
 from .builtin import find as find_builtin
 from .motion import check_width, initial_state, joint_motion
 from .parameters import to_si
-from .result import Result
+from .result import Result, coordinate_column
+from .sizing import size
 
 
 def load_study(study: str | Path | specs.Study) -> specs.Study:
@@ -74,34 +78,60 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
     cols = {"t_s": jt.t_s}
     if x is not None:
         cols.update(task_columns(robot, x))
-    for i in range(robot.n):
-        cols[f"q{i + 1}_rad"] = jt.q[:, i]
-    for i in range(robot.n):
-        cols[f"qd{i + 1}_rad_s"] = jt.qd[:, i]
-    for i in range(robot.n):
-        cols[f"qdd{i + 1}_rad_s2"] = jt.qdd[:, i]
+    units = robot.coordinate_units
+    for kind, values in (("q", jt.q), ("qd", jt.qd), ("qdd", jt.qdd)):
+        for i in range(robot.n):
+            cols[coordinate_column(kind, i, units[i])] = values[:, i]
     if robot.is_closed_chain:
         tau, lam = robot.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd, t=jt.t_s)
     else:
         tau, lam = robot.inverse_dynamics(jt.q, jt.qd, jt.qdd), None
     for k, i in enumerate(robot.actuated):
-        cols[f"tau{i + 1}_n_m"] = tau[:, k]
+        cols[coordinate_column("tau", i, units[i])] = tau[:, k]
     for k, loop in enumerate(robot.loops):
         cols[f"fx_{loop}_n"] = lam[:, 2 * k]
         cols[f"fy_{loop}_n"] = lam[:, 2 * k + 1]
+    cols.update(load_columns(joint_loads(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s,
+                                         inverse=(tau, lam))))
     note = _coordinates_note(robot)
     if robot.is_closed_chain:
         drift = float(np.max(np.abs(robot.constraint(jt.q))))
         note += (f"; loop residual max |Phi| = {drift:.1e} m; f*: force on the cut joint's "
                  "parent body")
+    note += "; jf*, jm*: joint loads, parent on child (world axes; jload = |jf|)"
     solver = getattr(jt, "solver", "")
     if st.motion.space == "joint" and robot.is_closed_chain:
         solver = "passive joints from the loops (Newton, continued)"
     if solver:
         note += f"; {'inverse kinematics' if st.motion.space == 'task' else 'joints'}: {solver}"
     split = torque_split(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s)
+    sizing = size(robot, jt.t_s, jt.qd, tau)
+    for k, i in enumerate(robot.actuated):  # the power each actuator delivers
+        cols[f"p{i + 1}_w"] = tau[:, k] * jt.qd[:, i]
+    over = [e for s in sizing for e in s.exceeded]
+    if over:
+        note += "; ACTUATOR LIMITS EXCEEDED: " + "; ".join(over)
     return Result(st.name, st.title, cols, kind="torques", note=note, split=split,
+                  sizing=sizing,
                   robot=robot.name, solver=solver, actuated=robot.actuated)
+
+
+def load_columns(loads: JointLoads) -> dict[str, np.ndarray]:
+    """Every joint's load as columns: ``jfx_<joint>_n``, ``jfy_<joint>_n`` (N, world axes, the
+    parent body on the child body), ``jload_<joint>_n`` (|F|, the bearing load); the reaction
+    couple ``jm_<joint>_n_m`` (N*m) of welds and prismatic joints (a revolute joint's couple is
+    its torque column, or 0 if passive); a prismatic joint's normal force ``jfn_<joint>_n``."""
+    cols = {}
+    load = loads.magnitude
+    for i, (name, kind) in enumerate(zip(loads.names, loads.types)):
+        cols[f"jfx_{name}_n"] = loads.force[:, i, 0]
+        cols[f"jfy_{name}_n"] = loads.force[:, i, 1]
+        cols[f"jload_{name}_n"] = load[:, i]
+        if kind in ("weld", "prismatic"):
+            cols[f"jm_{name}_n_m"] = loads.couple[:, i]
+        if kind == "prismatic":
+            cols[f"jfn_{name}_n"] = loads.normal[name]
+    return cols
 
 
 def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
@@ -115,12 +145,13 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     cols = {"t_s": t}
     if robot.task_names:
         cols.update(task_columns(robot, robot.task(sim.q)[0].reshape(len(t), -1)))
-    for i in range(robot.n):
-        cols[f"q{i + 1}_rad"] = sim.q[:, i]
-    for i in range(robot.n):
-        cols[f"qd{i + 1}_rad_s"] = sim.qd[:, i]
+    for kind, values in (("q", sim.q), ("qd", sim.qd)):
+        for i in range(robot.n):
+            cols[coordinate_column(kind, i, robot.coordinate_units[i])] = values[:, i]
     cols["energy_j"] = sim.energy_j
-    note = (f"{_coordinates_note(robot)}; energy drift {sim.energy_drift:.2e} (relative), "
+    drift = ("energy change (the actuators' friction dissipates it)" if robot.has_friction
+             else "energy drift")
+    note = (f"{_coordinates_note(robot)}; {drift} {sim.energy_drift:.2e} (relative), "
             f"{sim.method} rtol {sim.rtol:g}")
     split = {}
     if not robot.is_closed_chain:
@@ -142,8 +173,8 @@ def _torque(st: specs.Study, robot: Robot):
         return np.array(tq)
     from ..motion.tables import read_table
 
-    names = [f"tau{i + 1}_n_m" for i in (robot.actuated if robot.is_closed_chain
-                                         else range(robot.n))]
+    names = [coordinate_column("tau", i, robot.coordinate_units[i])
+             for i in (robot.actuated if robot.is_closed_chain else range(robot.n))]
     times, values = read_table(tq, names)
     lo, hi = times[0], times[-1]
     if lo > 0.0 or hi < st.simulation.duration_s:
@@ -164,8 +195,9 @@ def task_columns(robot: Robot, x_si: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def _coordinates_note(robot: Robot) -> str:
-    marks = [f"q{i + 1} = {name}{' (actuated)' if i in robot.actuated else ''}"
-             for i, name in enumerate(robot.coordinates)]
+    marks = [f"q{i + 1} = {name}{' (prismatic, m)' if u == 'm' else ''}"
+             f"{' (actuated)' if i in robot.actuated else ''}"
+             for i, (name, u) in enumerate(zip(robot.coordinates, robot.coordinate_units))]
     return "coordinates: " + ", ".join(marks)
 
 
@@ -187,7 +219,8 @@ def motion(study: str | Path | specs.Study, frames: int) -> tuple[Robot, np.ndar
     robot = robot_of(st)
     if st.kind == "forward":
         result = _forward(st, robot, frames)
-        q = np.column_stack([result.columns[f"q{i + 1}_rad"] for i in range(robot.n)])
+        q = np.column_stack([result.columns[coordinate_column("q", i, robot.coordinate_units[i])]
+                             for i in range(robot.n)])
         return robot, result.columns["t_s"], q
     jt, _ = joint_motion(st, robot, frames)
     return robot, jt.t_s, jt.q

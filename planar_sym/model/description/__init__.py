@@ -67,10 +67,12 @@ from .assembly import ASSEMBLY_TOL_M, place_at
 from .reader import builtin_robots, load, resolve, robots_dir
 from .types import (
     CLOSURE_TOLERANCE_M,
+    COULOMB_SMOOTHING,
     G_LIMIT,
     GROUND,
     GYRATION_LIMIT,
     ZERO_SNAP_M,
+    Actuator,
     Assembly,
     Body,
     Description,
@@ -79,7 +81,7 @@ from .types import (
     wrap_angle,
 )
 
-__all__ = ["ASSEMBLY_TOL_M", "CLOSURE_TOLERANCE_M", "GROUND", "GYRATION_LIMIT", "G_LIMIT",
-           "ZERO_SNAP_M",
+__all__ = ["ASSEMBLY_TOL_M", "CLOSURE_TOLERANCE_M", "COULOMB_SMOOTHING", "GROUND",
+           "GYRATION_LIMIT", "G_LIMIT", "ZERO_SNAP_M", "Actuator",
            "Assembly", "Body", "Description", "Joint", "Parameter", "builtin_robots", "load",
            "place_at", "resolve", "robots_dir", "wrap_angle"]

@@ -37,10 +37,28 @@ MAX_STEP_RAD = 0.3
 MAX_ITER = 100
 
 
+def _axis_world(parent: Body, j: Joint) -> tuple[float, float]:
+    """A prismatic joint's axis in world axes, with its parent body as placed."""
+    c, s = math.cos(parent.drawn_angle_rad), math.sin(parent.drawn_angle_rad)
+    ux, uy = j.axis  # type: ignore[misc]
+    return (c * ux - s * uy, s * ux + c * uy)
+
+
 def tree_angles(bodies: dict[str, Body], tree) -> dict[str, float]:
-    """Every tree joint's angle (child frame minus parent frame, rad) as the bodies are placed."""
-    return {j.name: bodies[j.child].drawn_angle_rad - bodies[j.parent].drawn_angle_rad
-            for j in tree}
+    """Every tree joint's coordinate as the bodies are placed: the angle of the child frame
+    minus the parent's (rad), or for a prismatic joint the child point's distance along the axis
+    from the parent point (m)."""
+    out = {}
+    for j in tree:
+        parent, child = bodies[j.parent], bodies[j.child]
+        if j.type == "prismatic":
+            a = parent.world(parent.points_m[j.parent_point])
+            b = child.world(child.points_m[j.child_point])
+            u = _axis_world(parent, j)
+            out[j.name] = (b[0] - a[0]) * u[0] + (b[1] - a[1]) * u[1]
+        else:
+            out[j.name] = child.drawn_angle_rad - parent.drawn_angle_rad
+    return out
 
 
 def place(bodies: dict[str, Body], tree, angles: dict[str, float]) -> dict[str, Body]:
@@ -53,13 +71,20 @@ def place(bodies: dict[str, Body], tree, angles: dict[str, float]) -> dict[str, 
     tree : sequence of Joint
         Tree joints, parents before children.
     angles : dict of str to float
-        Every tree joint's angle (rad): child frame angle = parent frame angle + angle.
+        Every tree joint's coordinate: child frame angle = parent frame angle + angle (rad);
+        for a prismatic joint the child point's distance along the axis from the parent point
+        (m), the child frame turned by the joint's fixed ``rel_angle_rad``.
     """
     out = dict(bodies)
     for j in tree:
         parent = out[j.parent]
-        angle = parent.drawn_angle_rad + angles[j.name]
         ax, ay = parent.world(parent.points_m[j.parent_point])
+        if j.type == "prismatic":
+            angle = parent.drawn_angle_rad + j.rel_angle_rad
+            u = _axis_world(parent, j)
+            ax, ay = ax + angles[j.name] * u[0], ay + angles[j.name] * u[1]
+        else:
+            angle = parent.drawn_angle_rad + angles[j.name]
         c, s = math.cos(angle), math.sin(angle)
         lx, ly = out[j.child].points_m[j.child_point]
         out[j.child] = replace(out[j.child], drawn_angle_rad=angle,
@@ -68,12 +93,16 @@ def place(bodies: dict[str, Body], tree, angles: dict[str, float]) -> dict[str, 
 
 
 def place_at(bodies: dict[str, Body], tree, q) -> dict[str, Body]:
-    """The bodies placed for coordinates ``q`` (revolute tree joints in order, rad); welds keep
-    their drawn relative angle. The forward kinematics the generated ``frames`` compute."""
+    """The bodies placed for coordinates ``q`` (revolute angles in rad, prismatic displacements
+    from the drawn pose in m, tree order); welds keep their drawn relative angle. The forward
+    kinematics the generated ``frames`` compute."""
     angles, k = tree_angles(bodies, tree), 0
     for j in tree:
         if j.type == "revolute":
             angles[j.name] = float(q[k])
+        elif j.type == "prismatic":
+            angles[j.name] += float(q[k])
+        if j.moves:
             k += 1
     return place(bodies, tree, angles)
 
@@ -96,13 +125,20 @@ def moved_by(tree) -> dict[str, set[str]]:
 
 
 def gap_jacobian(bodies, tree, loops, beyond, free) -> np.ndarray:
-    """d gaps / d angles of the joints ``free`` (exact, see the module docstring)."""
+    """d gaps / d coordinates of the joints ``free`` (exact, see the module docstring; a
+    prismatic joint moves the points beyond it along its axis)."""
     pivots = {j.name: _point(bodies, j.parent, j.parent_point) for j in tree}
+    slides = {j.name: np.array(_axis_world(bodies[j.parent], j)) for j in tree
+              if j.type == "prismatic"}
     jac = np.zeros((2 * len(loops), len(free)))
     for r, cut in enumerate(loops):
         a = _point(bodies, cut.parent, cut.parent_point)
         b = _point(bodies, cut.child, cut.child_point)
         for c, name in enumerate(free):
+            sign = (cut.parent in beyond[name]) - (cut.child in beyond[name])
+            if name in slides:
+                jac[2 * r:2 * r + 2, c] = sign * slides[name]
+                continue
             d = np.zeros(2)
             if cut.parent in beyond[name]:
                 d += a - pivots[name]
@@ -164,7 +200,7 @@ def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
         The assembled bodies and the record; or, when the loops cannot be closed, None and
         (the worst loop's name, the message naming every loop left open and its gap).
     """
-    revolute = [j for j in tree if j.type == "revolute"]
+    revolute = [j for j in tree if j.moves]
     passive = [j.name for j in revolute if not j.actuated]
     gap0 = _gaps(place(bodies, tree, start), loops)
     angles, placed, gap, steps = close_loops(bodies, tree, loops, start, passive)
@@ -181,13 +217,17 @@ def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
     moved = {f"{b}.{p}": math.dist(placed[b].world(xy), reference[b].world(xy))
              for b in bodies if b != GROUND for p, xy in bodies[b].points_m.items()}
     names = [j.name for j in revolute]
+    slides = {j.name for j in revolute if j.type == "prismatic"}
+
+    def wrap(n: str, v: float) -> float:
+        return v if n in slides else wrap_angle(v)
     return placed, Assembly(
         pose=pose,
-        given_rad={n: wrap_angle(start[n]) for n in names},
-        angles_rad={n: wrap_angle(angles[n]) for n in names},
+        given_rad={n: wrap(n, start[n]) for n in names},
+        angles_rad={n: wrap(n, angles[n]) for n in names},
         angle_change_rad={n: angles[n] - start[n] for n in names},
         point_moved_m=moved,
         gaps_before_m={j.name: float(np.hypot(*gap0[2 * k:2 * k + 2]))
                        for k, j in enumerate(loops)},
         gaps_after_m=norms,
-        iterations=steps)
+        iterations=steps, slides=frozenset(slides))

@@ -73,14 +73,32 @@ class Bodies(Plausibility):
         mass = self._num(raw, "mass", f"{f}.mass")
         if mass is not None and mass <= 0:
             self.err(f"{f}.mass", f"must be > 0 (got {mass})")
-        izz = self._num(raw, "izz", f"{f}.izz")
-        if izz is not None and izz < 0:
-            self.err(f"{f}.izz", f"must be >= 0 (got {izz})")
+        mass_at = raw.get("mass_at")
+        if mass_at is None:
+            izz = self._num(raw, "izz", f"{f}.izz")
+            if izz is not None and izz < 0:
+                self.err(f"{f}.izz", f"must be >= 0 (got {izz})")
+        else:  # a massless link carrying a point mass: cg at the point, no inertia about it
+            izz, inertia_u = 0.0, 1.0
+            for key in sorted({"izz", "cg", "cg_from"} & set(raw)):
+                self.err(f"{f}.{key}", f"not with mass_at (a point mass at {mass_at!r}: its "
+                                       "centre of gravity is that point and its inertia "
+                                       "about it is 0)")
         n_points = len(self.problems)
         pts = self._points(raw.get("points"), f"{f}.points", length)
         points_ok = len(self.problems) == n_points
-        cg_given = self._vec(raw, "cg", f"{f}.cg", length)
-        cg_ok, cg_from = self._cg_from(raw, f, pts, pose, points_ok)
+        if mass_at is not None:
+            if not isinstance(mass_at, str) or (points_ok and mass_at not in pts):
+                self.err(f"{f}.mass_at", f"must name one of its points {sorted(pts)} (got "
+                                         f"{mass_at!r})")
+                return None
+            cg_given, cg_ok, cg_from = (0.0, 0.0), True, mass_at
+            if pose == "world" and mass_at in pts:
+                cg_given = pts[mass_at]
+                cg_from = "world"
+        else:
+            cg_given = self._vec(raw, "cg", f"{f}.cg", length)
+            cg_ok, cg_from = self._cg_from(raw, f, pts, pose, points_ok)
         # world: the frame is at the first point unless named; joints: the coordinates as typed
         frame = raw.get("frame")
         if frame is None:
@@ -110,8 +128,9 @@ class Bodies(Plausibility):
         off = to_body(cg_given, (0.0, 0.0), angle)
         cg = snap(base[0] + off[0]), snap(base[1] + off[1])
         # pose = "joints": this placement is the typed coordinates; the tree replaces it
-        body = Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin)
-        if not self._cg_plausible(f, body, cg_from, pose):  # else its extent is in question
+        body = Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin,
+                    point_mass=mass_at is not None)
+        if mass_at is None and not self._cg_plausible(f, body, cg_from, pose):
             self._plausible(f, body, raw["izz"], self.data["units"].get("inertia"))
         return body
 

@@ -15,8 +15,11 @@ NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 TOP_KEYS = {"name", "title", "units", "gravity", "ground", "bodies", "joints", "task", "symbols",
             "notes", "assemble", "pose"}
 UNIT_KEYS = {"length", "mass", "inertia", "angle", "acceleration"}
-BODY_KEYS = {"name", "mass", "izz", "cg", "cg_from", "points", "frame", "notes"}
-JOINT_KEYS = {"name", "type", "parent", "child", "actuated", "closes_loop", "angle", "notes"}
+BODY_KEYS = {"name", "mass", "izz", "cg", "cg_from", "points", "frame", "notes", "mass_at"}
+JOINT_KEYS = {"name", "type", "parent", "child", "actuated", "closes_loop", "angle", "notes",
+              "axis", "displacement", "actuator"}
+#: joint types: a revolute or prismatic joint is a coordinate (or a cut), a weld is rigid
+JOINT_TYPES = ("revolute", "prismatic", "weld")
 TASK_KEYS = {"point", "orientation"}
 #: ``pose``: how points are given. world: world coordinates of the drawn pose (the seed's
 #: tables); joints: each body in its own frame, placed by approximate joint angles
@@ -96,15 +99,36 @@ class Fields:
         out = {}
         for key in sorted(set(u) - UNIT_KEYS):
             self.err(f"units.{key}", f"unknown quantity (known: {', '.join(sorted(UNIT_KEYS))})")
+        used = self._units_used()
         for q in sorted(UNIT_KEYS):
             if q not in u:
-                self.err(f"units.{q}", f"missing (SI would be {SI[q]!r})")
+                if q in used:
+                    self.err(f"units.{q}", f"missing (SI would be {SI[q]!r})")
+                else:  # no field of this description is in it: any factor will do
+                    out[q] = 1.0
                 continue
             try:
                 out[q] = factor(q, u[q]) if isinstance(u[q], str) else factor(q, repr(u[q]))
             except KeyError as exc:
                 self.err(f"units.{q}", f"{exc.args[0]} (got {u[q]!r})")
         return out
+
+    def _units_used(self) -> set[str]:
+        """The quantities some field of the description is given in: a unit no field uses
+        (inertia with only point masses, angle with no joint angle) is not required."""
+        used = {"length", "mass", "acceleration"}
+        bodies = self.data.get("bodies")
+        joints = self.data.get("joints")
+        if not isinstance(bodies, list) or any(not isinstance(b, dict) or "izz" in b
+                                               or "mass_at" not in b for b in bodies):
+            used.add("inertia")
+        if isinstance(joints, list) and any(isinstance(j, dict) and isinstance(
+                j.get("actuator"), dict) and "rotor_inertia" in j["actuator"] for j in joints):
+            used.add("inertia")
+        if not isinstance(joints, list) or any(not isinstance(j, dict) or "angle" in j
+                                               for j in joints):
+            used.add("angle")
+        return used
 
     def _points(self, raw, fld: str, length: float | None) -> dict[str, tuple[float, float]]:
         if not isinstance(raw, dict) or not raw:

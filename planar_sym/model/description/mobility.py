@@ -5,8 +5,9 @@ Counted (Gruebler/Kutzbach for planar chains, every body moving in the plane)::
 
     F = 3 N - 2 R - 3 W  =  n - 2 c
 
-with N moving bodies, R revolute joints (cuts included), W welds; equivalently n coordinates
-(revolute tree joints) minus 2 per cut joint c, since each body is the child of one tree joint.
+with N moving bodies, R revolute and prismatic joints (cuts included: one degree of freedom
+each), W welds; equivalently n coordinates (revolute and prismatic tree joints) minus 2 per cut
+joint c, since each body is the child of one tree joint.
 Measured: the rank r of the loop-constraint Jacobian Phi_q (2c x n) at the drawn pose, the
 mobility there being n - r. The count equals the mobility exactly when r = 2c.
 
@@ -50,13 +51,14 @@ PROBE_RAD = 0.02
 class Mobility:
     """The degrees of freedom of a described robot (see the module docstring)."""
 
-    coordinates: tuple[str, ...]  # revolute tree joints
+    coordinates: tuple[str, ...]  # revolute and prismatic tree joints
     cuts: tuple[str, ...]
     welds: int
     moving_bodies: int
     actuated: tuple[str, ...]
     rank: int  # of Phi_q at the drawn pose (0 for a tree)
     singular_values: tuple[float, ...]
+    slides: int = 0  # prismatic joints among the coordinates
 
     @property
     def gruebler(self) -> int:
@@ -73,7 +75,8 @@ class Mobility:
         revolute joints = 3 coordinates - 2 x 1 cut joint (B) = 1``."""
         n, c = len(self.coordinates), len(self.cuts)
         welds = f" - 3 x {self.welds} weld{_s(self.welds)}" if self.welds else ""
-        return (f"F = 3 x {self.moving_bodies} moving bodies - 2 x {n + c} revolute joints"
+        kinds = "revolute and prismatic joints" if self.slides else "revolute joints"
+        return (f"F = 3 x {self.moving_bodies} moving bodies - 2 x {n + c} {kinds}"
                 f"{welds} = {n} coordinate{_s(n)} - 2 x {c} cut joint{_s(c)} "
                 f"({', '.join(self.cuts)}) = {self.gruebler}")
 
@@ -93,18 +96,19 @@ def _rank(jac: np.ndarray) -> tuple[int, np.ndarray]:
 
 def phi_q(bodies: dict[str, Body], tree, loops) -> np.ndarray:
     """Phi_q = d gaps / d coordinates at the bodies' placement (2c x n, m)."""
-    coords = [j.name for j in tree if j.type == "revolute"]
+    coords = [j.name for j in tree if j.moves]
     return gap_jacobian(bodies, list(tree), list(loops), moved_by(list(tree)), coords)
 
 
 def mobility(bodies: dict[str, Body], tree, loops) -> Mobility:
     """The counts and the rank of Phi_q with the bodies as placed (the drawn pose)."""
-    coords = tuple(j.name for j in tree if j.type == "revolute")
+    coords = tuple(j.name for j in tree if j.moves)
     rank, sv = _rank(phi_q(bodies, tree, loops)) if loops else (0, np.zeros(0))
     return Mobility(coords, tuple(j.name for j in loops), sum(j.type == "weld" for j in tree),
                     len([b for b in bodies if b != GROUND]),
-                    tuple(j.name for j in tree if j.type == "revolute" and j.actuated),
-                    rank, tuple(float(s) for s in sv))
+                    tuple(j.name for j in tree if j.moves and j.actuated),
+                    rank, tuple(float(s) for s in sv),
+                    sum(j.type == "prismatic" for j in tree))
 
 
 def of(desc) -> Mobility:
@@ -147,12 +151,12 @@ def problems(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
     actuated joints than F, which is why an assembly holding them fixed fails)."""
     if not loops:
         return []
-    if placed and (len(tree) < len(bodies) - 1 or not any(j.type == "revolute" for j in tree)):
+    if placed and (len(tree) < len(bodies) - 1 or not any(j.moves for j in tree)):
         return []  # bodies off the tree, or no coordinate: the tree stage says so, no count
     m = mobility(bodies, tree, loops) if placed else mobility({}, tree, [])
     if not placed:
         m = Mobility(m.coordinates, tuple(j.name for j in loops), m.welds,
-                     len(tree), m.actuated, 2 * len(loops), ())
+                     len(tree), m.actuated, 2 * len(loops), (), m.slides)
         if m.gruebler > 0 and len(m.actuated) <= m.gruebler:
             return []
     n, c = len(m.coordinates), len(m.cuts)

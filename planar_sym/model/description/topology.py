@@ -6,18 +6,35 @@ from __future__ import annotations
 import math
 
 from . import mobility
-from .fields import JOINT_KEYS, NAME, Fields
-from .types import ANGLE_TURN_RAD, CLOSURE_TOLERANCE_M, GROUND, Body, Joint, wrap_angle
+from .actuators import Actuators
+from .fields import JOINT_KEYS, JOINT_TYPES, NAME
+from .types import (
+    ANGLE_TURN_RAD,
+    CLOSURE_TOLERANCE_M,
+    GROUND,
+    MOVING,
+    ZERO_SNAP_M,
+    Body,
+    Joint,
+    wrap_angle,
+)
 
 
-class Topology(Fields):
+def _exact(v: float) -> float:
+    """An axis component: rounding below ``ZERO_SNAP_M`` is 0, near +-1 is exactly +-1."""
+    if abs(v) < ZERO_SNAP_M:
+        return 0.0
+    return math.copysign(1.0, v) if abs(abs(v) - 1.0) < ZERO_SNAP_M else v
+
+
+class Topology(Actuators):
     """The joint and tree stage of the validator."""
 
     #: body names given in the file, even those with problems of their own
     declared: frozenset = frozenset()
 
     def _joint(self, i: int, raw: dict, bodies: dict[str, Body], pose: str | None,
-               angle_unit: float | None) -> Joint | None:
+               scale: dict[str, float]) -> Joint | None:
         f = f"joints[{i}]"
         for key in sorted(set(raw) - JOINT_KEYS):
             self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(JOINT_KEYS))})")
@@ -25,11 +42,11 @@ class Topology(Fields):
         if name is not None:
             f = f"joints[{i}] ({name})"
         jtype = raw.get("type")
-        if jtype not in ("revolute", "weld"):
-            self.err(f"{f}.type", f"must be 'revolute' or 'weld' (got {jtype!r})")
+        if jtype not in JOINT_TYPES:
+            self.err(f"{f}.type", f"must be 'revolute', 'prismatic' or 'weld' (got {jtype!r})")
         ends = [self._end(raw, key, f, bodies) for key in ("parent", "child")]
-        # actuated is required of a revolute only: a wrong type is one problem, not two
-        actuated = raw.get("actuated", None if jtype == "revolute" else False)
+        # actuated is required of a coordinate only: a wrong type is one problem, not two
+        actuated = raw.get("actuated", None if jtype in MOVING else False)
         if not isinstance(actuated, bool):
             self.err(f"{f}.actuated", f"must be true or false (got {actuated!r})")
         loop = raw.get("closes_loop", False)
@@ -39,15 +56,89 @@ class Topology(Fields):
             self.err(f"{f}", "a weld can be neither actuated nor a loop closure")
         if loop and actuated:
             self.err(f"{f}.actuated", "a loop-closing joint is cut, so it cannot be actuated")
-        angle = self._angle(raw, f, pose, loop is True, angle_unit)
-        if name is None or None in ends or jtype not in ("revolute", "weld"):
+        if jtype == "prismatic" and loop is True:
+            self.err(f"{f}.closes_loop", "a loop cannot be cut at a prismatic joint (its cut "
+                                         "would need a slide and an angle equation, not the two "
+                                         "point equations of a revolute cut): cut the loop at "
+                                         "one of its revolute joints, and make this one a tree "
+                                         "joint (closes_loop = false)")
+        axis = self._axis(raw, f, jtype, ends[0], bodies)
+        actuator = self._actuator(raw, f, jtype, actuated, scale)
+        if jtype == "prismatic":
+            angle = self._slide(raw, f, pose, loop is True, scale)
+            rel = self._rel_angle(raw, f, pose, scale.get("angle"), ends, bodies)
+        else:
+            if "displacement" in raw:
+                self.err(f"{f}.displacement", "only a prismatic joint has a displacement")
+            angle = self._angle(raw, f, pose, loop is True, scale.get("angle"))
+            rel = None
+        if name is None or None in ends or jtype not in JOINT_TYPES:
+            return None
+        if jtype == "prismatic" and (axis is None or (pose == "joints" and rel is None)):
             return None
         if name is not None and not NAME.match(name):
             self.err(f"{f}.name", f"must be an identifier (got {name!r})")
         (pb, pp), (cb, cp) = ends  # type: ignore[misc]
         if pb == cb:
             self.err(f, f"joins body {pb!r} to itself")
-        return Joint(name, jtype, pb, pp, cb, cp, bool(actuated), bool(loop), angle)
+        return Joint(name, jtype, pb, pp, cb, cp, bool(actuated), bool(loop), angle, axis, rel,
+                     actuator)
+
+    def _axis(self, raw: dict, f: str, jtype, parent, bodies) -> tuple[float, float] | None:
+        """A prismatic joint's ``axis``: a direction in the drawn pose (pose = "world") or in the
+        parent body's own coordinates (pose = "joints"), returned as a unit vector in the parent
+        body's frame."""
+        if jtype != "prismatic":
+            if "axis" in raw:
+                self.err(f"{f}.axis", f"only a prismatic joint has an axis (this one is "
+                                      f"{jtype!r})")
+            return None
+        before = len(self.problems)
+        v = self._vec(raw, "axis", f"{f}.axis", 1.0)
+        if len(self.problems) > before:
+            return None
+        norm = math.hypot(*v)
+        if norm == 0.0 or not math.isfinite(norm):
+            self.err(f"{f}.axis", f"must have a length (got {list(raw['axis'])!r}: zero length, "
+                                  "no direction to slide along)")
+            return None
+        if parent is None:
+            return None
+        # into the parent's frame; axis-aligned directions stay exact
+        a = bodies[parent[0]].drawn_angle_rad
+        c, s = math.cos(a), math.sin(a)
+        ux, uy = v[0] / norm, v[1] / norm
+        return (_exact(c * ux + s * uy), _exact(-s * ux + c * uy))
+
+    def _slide(self, raw: dict, f: str, pose: str | None, loop: bool,
+               scale: dict[str, float]) -> float | None:
+        """``displacement`` (pose = "joints", length units, default 0): where the child point
+        sits along the axis from the parent point; None in pose = "world"."""
+        if "angle" in raw and pose != "joints":
+            self.err(f"{f}.angle", "a prismatic joint slides: it has no angle (with pose = "
+                                   "'joints', angle is the child's fixed angle to the parent)")
+        if "displacement" not in raw:
+            return 0.0 if pose == "joints" and not loop else None
+        if pose == "world":
+            self.err(f"{f}.displacement", "only with pose = 'joints' (with pose = 'world', the "
+                                          "points give every displacement)")
+            return None
+        value = self._num(raw, "displacement", f"{f}.displacement")
+        unit = scale.get("length")
+        return None if value is None or unit is None else value * unit
+
+    def _rel_angle(self, raw: dict, f: str, pose: str | None, unit: float | None, ends,
+                   bodies) -> float | None:
+        """The child frame's fixed angle to the parent frame across a prismatic joint (rad):
+        as drawn (pose = "world"), or ``angle`` (pose = "joints", default 0)."""
+        if pose == "joints":
+            if "angle" not in raw:
+                return 0.0
+            value = self._num(raw, "angle", f"{f}.angle")
+            return None if value is None or unit is None else value * unit
+        if None in ends:
+            return None
+        return bodies[ends[1][0]].drawn_angle_rad - bodies[ends[0][0]].drawn_angle_rad
 
     def _angle(self, raw: dict, f: str, pose: str | None, loop: bool,
                unit: float | None) -> float | None:
@@ -117,8 +208,8 @@ class Topology(Fields):
         if unplaced and not any(len(v) > 1 for v in into.values()) and not self.problems:
             self._unplaced(unplaced, joints, bodies)
         self._repeated(joints)
-        if not [j for j in tree if j.type == "revolute"] and not self.problems:
-            self.err("joints", "no revolute joint: the robot has no coordinates")
+        if not [j for j in tree if j.moves] and not self.problems:
+            self.err("joints", "no revolute or prismatic joint: the robot has no coordinates")
         return ordered, loops
 
     def _unplaced(self, unplaced: list[str], joints: list[Joint], bodies) -> None:
@@ -176,6 +267,9 @@ class Topology(Fields):
             a = bodies[j.parent].world(bodies[j.parent].points_m[j.parent_point])
             b = bodies[j.child].world(bodies[j.child].points_m[j.child_point])
             gap = math.hypot(a[0] - b[0], a[1] - b[1])
+            if j.type == "prismatic":
+                self._on_axis(j, bodies, a, b)
+                continue
             if gap > CLOSURE_TOLERANCE_M:
                 what = "loop" if j.closes_loop else "joint"
                 self.err(f"joints ({j.name})",
@@ -184,3 +278,18 @@ class Topology(Fields):
                          f"{gap * 1e3:.6g} mm apart (tolerance {CLOSURE_TOLERANCE_M * 1e3:g} mm)"
                          + ("; set assemble = true to let planar-sym close it from this pose"
                             if j.closes_loop else ""))
+
+    def _on_axis(self, j: Joint, bodies: dict[str, Body], a, b) -> None:
+        """A prismatic joint's child point lies on the line through its parent point along
+        the axis, in the pose as typed."""
+        ang = bodies[j.parent].drawn_angle_rad
+        ux, uy = j.axis  # type: ignore[misc]
+        wx, wy = (math.cos(ang) * ux - math.sin(ang) * uy, math.sin(ang) * ux + math.cos(ang) * uy)
+        off = abs((b[0] - a[0]) * wy - (b[1] - a[1]) * wx)
+        if off > CLOSURE_TOLERANCE_M:
+            self.err(f"joints ({j.name})",
+                     f"prismatic joint's axis does not pass both its points: "
+                     f"{j.child}.{j.child_point} is {off * 1e3:.6g} mm off the line through "
+                     f"{j.parent}.{j.parent_point} along the axis [{wx:.6g}, {wy:.6g}] in the "
+                     f"drawn configuration (tolerance {CLOSURE_TOLERANCE_M * 1e3:g} mm): the "
+                     "child point slides along the axis through the parent point")

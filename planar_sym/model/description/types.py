@@ -59,6 +59,13 @@ ANGLE_TURN_RAD = 2.0 * math.pi
 ZERO_SNAP_M = 1e-12
 
 GROUND = "ground"
+#: joint types that carry a coordinate: an angle (rad) or a displacement (m)
+MOVING = ("revolute", "prismatic")
+
+
+def snap_offset(v: float) -> float:
+    """A drawn slide offset (m) with rounding below ``ZERO_SNAP_M`` made an exact zero."""
+    return 0.0 if abs(v) < ZERO_SNAP_M else v
 
 
 def wrap_angle(angle: float) -> float:
@@ -82,6 +89,9 @@ class Body:
     points_m: dict[str, tuple[float, float]]
     drawn_angle_rad: float  # frame angle in the drawn configuration
     drawn_origin_m: tuple[float, float]  # frame origin in world, drawn configuration
+    #: a massless link carrying its whole mass at one of its points (``mass_at``): izz is an
+    #: exact structural 0, not a parameter
+    point_mass: bool = False
 
     def world(self, local: tuple[float, float]) -> tuple[float, float]:
         """A body-frame position (m) in world coordinates of the drawn configuration (m)."""
@@ -90,12 +100,37 @@ class Body:
         return (o[0] + c * local[0] - s * local[1], o[1] + s * local[0] + c * local[1])
 
 
+#: default speed (rad/s, or m/s) over which Coulomb friction c sign(qd) is smoothed to
+#: c tanh(qd / v_s): at 0.01 rad/s (0.1 rpm at the joint) the friction reaches 76 % of c, and
+#: the slope c / v_s near rest stays mild enough for the explicit integrators
+COULOMB_SMOOTHING = 0.01
+
+
+@dataclass(frozen=True)
+class Actuator:
+    """The actuator of one actuated joint (see ``actuators``): joint-side SI figures."""
+
+    gear_ratio: float = 1.0  # motor rad per joint rad (per m of a prismatic joint)
+    rotor_inertia_kg_m2: float = 0.0
+    viscous: float = 0.0  # N*m*s/rad (N*s/m)
+    coulomb: float = 0.0  # N*m (N)
+    smoothing: float = COULOMB_SMOOTHING  # rad/s (m/s)
+    torque_limit: float | None = None  # N*m (N) at the joint
+    motor_torque_limit: float | None = None  # N*m
+    motor_speed_limit_rad_s: float | None = None
+    given: frozenset = frozenset()  # the keys the description gave
+
+
 @dataclass(frozen=True)
 class Joint:
-    """A joint between two body points: ``revolute`` (a coordinate, or a cut) or ``weld``.
+    """A joint between two body points: ``revolute`` or ``prismatic`` (a coordinate, or a cut)
+    or ``weld``.
 
     ``angle_rad`` is the approximate joint coordinate given with ``pose = "joints"`` (None in
-    ``pose = "world"``, where the points give every angle).
+    ``pose = "world"``, where the points give every angle); for a prismatic joint it is the
+    displacement of the child point along the axis from the parent point (m).
+    ``axis`` (prismatic only) is the unit slide direction in the parent body's frame, and
+    ``rel_angle_rad`` the constant angle of the child frame relative to the parent's.
     """
 
     name: str
@@ -107,6 +142,14 @@ class Joint:
     actuated: bool
     closes_loop: bool
     angle_rad: float | None = None
+    axis: tuple[float, float] | None = None
+    rel_angle_rad: float | None = None
+    actuator: Actuator | None = None
+
+    @property
+    def moves(self) -> bool:
+        """Whether the joint is a coordinate (revolute or prismatic), not a weld."""
+        return self.type in MOVING
 
 
 @dataclass(frozen=True)
@@ -152,6 +195,8 @@ class Assembly:
     gaps_before_m: dict[str, float]
     gaps_after_m: dict[str, float]
     iterations: int
+    #: prismatic joints among the above: their values are displacements (m), not angles
+    slides: frozenset = frozenset()
 
     def report(self) -> str:
         """Plain-text account of the assembled pose and of what moved (``planar-sym draw``)."""
@@ -161,6 +206,11 @@ class Assembly:
                   for k, v in self.gaps_before_m.items()]
         for k, v in self.angles_rad.items():
             change = self.angle_change_rad[k]
+            if k in self.slides:
+                moved = (f"changed by {change * 1e3:+.4g} mm" if abs(change) > 1e-12 else "kept")
+                lines.append(f"  joint {k}: {v * 1e3:.6g} mm along its axis (given "
+                             f"{self.given_rad[k] * 1e3:.6g} mm, {moved})")
+                continue
             moved = (f"changed by {math.degrees(change):+.4g} deg" if abs(change) > 1e-12
                      else "kept")
             lines.append(f"  joint {k}: {math.degrees(v):.6g} deg (given "
@@ -182,7 +232,7 @@ class Description:
     bodies: dict[str, Body]  # includes "ground"
     tree_joints: tuple[Joint, ...]  # parents before children
     loop_joints: tuple[Joint, ...]
-    task_point: tuple[str, str]
+    task_point: tuple[str, str] | None  # None: no end-effector ([task] left out)
     task_orientation: str | None
     display: dict[str, str] = field(default_factory=dict)
     #: what closing the loops numerically changed; None when the pose was taken as typed
@@ -190,26 +240,46 @@ class Description:
 
     @property
     def coordinates(self) -> tuple[str, ...]:
-        """Names of the generalised coordinates q (revolute tree joints, tree order)."""
-        return tuple(j.name for j in self.tree_joints if j.type == "revolute")
+        """Names of the generalised coordinates q (revolute and prismatic tree joints, tree
+        order)."""
+        return tuple(j.name for j in self.tree_joints if j.moves)
+
+    @property
+    def coordinate_units(self) -> tuple[str, ...]:
+        """Unit of each coordinate: ``rad`` (revolute) or ``m`` (prismatic)."""
+        return tuple("m" if j.type == "prismatic" else "rad" for j in self._movable())
 
     @property
     def actuated(self) -> tuple[int, ...]:
         """Indices into q of the actuated joints."""
-        return tuple(i for i, j in enumerate(self._revolutes()) if j.actuated)
+        return tuple(i for i, j in enumerate(self._movable()) if j.actuated)
 
     @property
     def task_names(self) -> tuple[str, ...]:
+        if self.task_point is None:
+            return ()
         return ("x", "y", "phi") if self.task_orientation else ("x", "y")
 
-    def _revolutes(self) -> list[Joint]:
-        return [j for j in self.tree_joints if j.type == "revolute"]
+    def _movable(self) -> list[Joint]:
+        return [j for j in self.tree_joints if j.moves]
 
     def q_drawn(self) -> tuple[float, ...]:
-        """Joint coordinates of the drawn configuration (rad), wrapped to (-pi, pi]."""
+        """Joint coordinates of the drawn configuration: revolute angles (rad) wrapped to
+        (-pi, pi]; prismatic displacements 0 (m: they are measured from the drawn pose)."""
         b = self.bodies
-        return tuple(wrap_angle(b[j.child].drawn_angle_rad - b[j.parent].drawn_angle_rad)
-                     for j in self._revolutes())
+        return tuple(0.0 if j.type == "prismatic" else
+                     wrap_angle(b[j.child].drawn_angle_rad - b[j.parent].drawn_angle_rad)
+                     for j in self._movable())
+
+    def slide_offset_m(self, j: Joint) -> float:
+        """A prismatic joint's drawn offset: the child point's distance along the axis from
+        the parent point in the drawn configuration (m); its coordinate adds to it."""
+        par, ch = self.bodies[j.parent], self.bodies[j.child]
+        a = par.world(par.points_m[j.parent_point])
+        b = ch.world(ch.points_m[j.child_point])
+        c, s = math.cos(par.drawn_angle_rad), math.sin(par.drawn_angle_rad)
+        ux, uy = j.axis  # type: ignore[misc]
+        return (b[0] - a[0]) * (c * ux - s * uy) + (b[1] - a[1]) * (s * ux + c * uy)
 
     def parameters(self) -> tuple[Parameter, ...]:
         """The parameter vector: every non-zero physical quantity, in a fixed order.
@@ -222,8 +292,9 @@ class Description:
             if body.name == GROUND:
                 continue
             params.append(Parameter(f"m_{body.name}", body.mass_kg, "kg", f"mass of {body.name}"))
-            params.append(Parameter(f"izz_{body.name}", body.izz_kg_m2, "kg*m^2",
-                                    f"inertia of {body.name} about its centre of gravity"))
+            if not body.point_mass:
+                params.append(Parameter(f"izz_{body.name}", body.izz_kg_m2, "kg*m^2",
+                                        f"inertia of {body.name} about its centre of gravity"))
             for axis, v in zip("xy", body.cg_m):
                 if v != 0.0:
                     params.append(Parameter(f"cg{axis}_{body.name}", v, "m",
@@ -233,7 +304,36 @@ class Description:
                 if v != 0.0:
                     params.append(Parameter(f"p{axis}_{body_name}_{point}", v, "m",
                                             f"point {point} of {body_name}, body {axis}"))
+        params += self._actuator_parameters()
+        for j in self.tree_joints:
+            if j.type == "prismatic" and (s0 := snap_offset(self.slide_offset_m(j))) != 0.0:
+                params.append(Parameter(f"s0_{j.name}", s0, "m",
+                                        f"offset of {j.name} along its axis, drawn pose"))
         return tuple(params)
+
+    def _actuator_parameters(self) -> list[Parameter]:
+        """The actuator figures the equations use, for the joints that give them: gear ratio
+        and rotor inertia (the rotor's kinetic energy), viscous and Coulomb friction and its
+        smoothing speed."""
+        out = []
+        for j in self.tree_joints:
+            a = j.actuator
+            if a is None:
+                continue
+            slide = j.type == "prismatic"
+            tq, sp = ("N", "m/s") if slide else ("N*m", "rad/s")
+            rows = [("gear_ratio", "gear", a.gear_ratio, "rad/m" if slide else "1",
+                     f"gear ratio of {j.name}'s motor (motor {'rad per m' if slide else 'turns per joint turn'})"),
+                    ("rotor_inertia", "jm", a.rotor_inertia_kg_m2, "kg*m^2",
+                     f"rotor inertia of {j.name}'s motor"),
+                    ("viscous_friction", "fv", a.viscous, f"{tq}*s/{'m' if slide else 'rad'}",
+                     f"viscous friction at {j.name}"),
+                    ("coulomb_friction", "fc", a.coulomb, tq, f"Coulomb friction at {j.name}"),
+                    ("coulomb_friction", "vs", a.smoothing, sp,
+                     f"speed over which {j.name}'s Coulomb friction is smoothed (tanh)")]
+            out += [Parameter(f"{prefix}_{j.name}", v, unit, meaning)
+                    for key, prefix, v, unit, meaning in rows if key in a.given]
+        return out
 
     def used_points(self) -> list[tuple[str, str]]:
         """(body, point) pairs the equations need: joint locations and the task point."""
@@ -242,7 +342,7 @@ class Description:
             for bp in ((j.parent, j.parent_point), (j.child, j.child_point)):
                 if bp not in seen:
                     seen.append(bp)
-        if self.task_point not in seen:
+        if self.task_point is not None and self.task_point not in seen:
             seen.append(self.task_point)
         return seen
 

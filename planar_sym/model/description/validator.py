@@ -51,7 +51,7 @@ class Validator(Bodies, Topology):
             bodies[body.name] = body
         raw_joints = self._list(d, "joints")
         joints = [j for i, raw in enumerate(raw_joints)
-                  if (j := self._joint(i, raw, bodies, pose, scale.get("angle")))
+                  if (j := self._joint(i, raw, bodies, pose, scale))
                   is not None]
         # every body and joint built: only then can the loops be assembled (a partial robot
         # would add 'no loop' or 'cannot close' to the problem already reported)
@@ -129,10 +129,14 @@ class Validator(Bodies, Topology):
             return bodies, None
         return placed, result
 
-    def _task(self, t, bodies) -> tuple[tuple[str, str], str | None]:
+    def _task(self, t, bodies) -> tuple[tuple[str, str] | None, str | None]:
+        """``[task]``: the tool point and, optionally, the body whose angle is the tool's
+        orientation; a robot with no end-effector (a pendulum, a slider-crank) leaves it out."""
+        if t is None:
+            return None, None
         if not isinstance(t, dict):
-            self.err("task", "missing table [task] with point = 'body.point'")
-            return ("", ""), None
+            self.err("task", "must be a table with point = 'body.point'")
+            return None, None
         for key in sorted(set(t) - TASK_KEYS):
             self.err(f"task.{key}", f"unknown key (known: {', '.join(sorted(TASK_KEYS))})")
         end = self._end(t, "point", "task", bodies) or ("", "")

@@ -1,0 +1,86 @@
+"""Actuator models of actuated joints (``[joints.actuator]``): gearbox, rotor, friction, limits.
+
+All optional; a joint without one is today's ideal torque (or force) source. In the equations:
+
+.. code:: text
+
+    T_rotor = 1/2 J_m (w_parent + N qd_j)^2        (rotor inertia J_m, gear ratio N; the
+                                                    stator on the parent body)
+    D_j(qd) = b qd_j + c tanh(qd_j / v_s)          (viscous b, Coulomb c smoothed over v_s)
+    M(q) qdd + C qd + g + D(qd) = S^T tau          (tau at the joint)
+    motor torque tau / N, motor speed N qd_j       (an ideal gearbox)
+
+Figures are at the joint side, SI (N*m, N*m*s/rad; N, N*s/m for a prismatic joint, whose gear
+ratio is motor radians per metre of travel, a screw's 2 pi / lead); the rotor inertia is in
+``[units].inertia``. numpy-free: shared by derive and the runtime.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .fields import Fields
+from .types import COULOMB_SMOOTHING, Actuator
+
+#: keys of ``[joints.actuator]`` and what each holds (for messages)
+ACTUATOR_KEYS = {
+    "gear_ratio": "motor turns per joint turn (rad per m for a prismatic joint), > 0",
+    "rotor_inertia": "rotor inertia about its axis, in [units].inertia, >= 0",
+    "viscous_friction": "joint-side viscous friction, N*m*s/rad (N*s/m), >= 0",
+    "coulomb_friction": "joint-side Coulomb friction, N*m (N), >= 0",
+    "coulomb_smoothing": "speed over which Coulomb friction is smoothed, rad/s (m/s), > 0",
+    "torque_limit": "largest joint torque (force), N*m (N), > 0",
+    "motor_torque_limit": "largest motor torque, N*m, > 0",
+    "motor_speed_limit_rpm": "largest motor speed, rpm, > 0",
+    "notes": "free text",
+}
+
+
+class Actuators(Fields):
+    """The actuator stage of the validator (one joint's ``actuator`` table)."""
+
+    def _actuator(self, raw: dict, f: str, jtype, actuated, scale) -> Actuator | None:
+        if "actuator" not in raw:
+            return None
+        a = raw["actuator"]
+        f = f"{f}.actuator"
+        if not isinstance(a, dict):
+            self.err(f, "must be a table of actuator figures ([joints.actuator])")
+            return None
+        if actuated is False:
+            self.err(f, "only an actuated joint has an actuator (actuated = true)")
+            return None
+        for key in sorted(set(a) - set(ACTUATOR_KEYS)):
+            self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(ACTUATOR_KEYS))})")
+        values: dict[str, float] = {}
+        for key, meaning in ACTUATOR_KEYS.items():
+            if key == "notes" or key not in a:
+                continue
+            v = self._num(a, key, f"{f}.{key}")
+            if v is None:
+                continue
+            positive = key not in ("rotor_inertia", "viscous_friction", "coulomb_friction")
+            if (positive and not v > 0) or v < 0:
+                self.err(f"{f}.{key}", f"must be {'> 0' if positive else '>= 0'} (got {v:g}): "
+                                       f"{meaning}")
+                continue
+            values[key] = v
+        if "coulomb_smoothing" in values and "coulomb_friction" not in a:
+            self.err(f"{f}.coulomb_smoothing", "only with coulomb_friction (it smooths it)")
+        inertia = scale.get("inertia")
+        if "rotor_inertia" in values and inertia is not None:
+            values["rotor_inertia"] *= inertia
+        if "rotor_inertia" in a and "gear_ratio" not in a and jtype == "prismatic":
+            self.err(f"{f}.rotor_inertia", "a prismatic joint's rotor needs gear_ratio (rad of "
+                                           "motor per m of travel) to move with the slide")
+        rpm = values.pop("motor_speed_limit_rpm", None)
+        return Actuator(
+            gear_ratio=values.get("gear_ratio", 1.0),
+            rotor_inertia_kg_m2=values.get("rotor_inertia", 0.0),
+            viscous=values.get("viscous_friction", 0.0),
+            coulomb=values.get("coulomb_friction", 0.0),
+            smoothing=values.get("coulomb_smoothing", COULOMB_SMOOTHING),
+            torque_limit=values.get("torque_limit"),
+            motor_torque_limit=values.get("motor_torque_limit"),
+            motor_speed_limit_rad_s=None if rpm is None else rpm * 2.0 * math.pi / 60.0,
+            given=frozenset(a) - {"notes"})

@@ -1,0 +1,135 @@
+"""Actuator sizing along an inverse-dynamics motion: what each motor and gearbox must deliver.
+
+Per actuated joint, from its torque tau(t) (N*m; N for a prismatic joint) and rate qd(t) at
+the joint, and its actuator's gear ratio N (1 where the description gives no actuator):
+
+.. code:: text
+
+    motor torque  tau_m = tau / N        (an ideal gearbox: no loss beyond the friction
+    motor speed   w_m   = N qd            the description gives at the joint)
+    power         P     = tau qd   (W)    = tau_m w_m
+    RMS           sqrt(1/T int tau^2 dt)  (trapezoidal rule over the samples)
+    energy        int P dt  (J)           net work delivered over the motion
+
+A limit the description gives (``torque_limit``, ``motor_torque_limit``,
+``motor_speed_limit_rpm``) that the motion exceeds is reported with the first time it is
+exceeded and the peak, never silently.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+RPM = 60.0 / (2.0 * math.pi)  # rad/s -> rpm
+#: the trapezoidal rule: numpy 2 renamed trapz (numpy >= 1.26 is supported)
+_trapezoid = getattr(np, "trapezoid", None) or np.trapz
+
+
+@dataclass(frozen=True)
+class ActuatorSizing:
+    """What one actuator must deliver over a motion (SI; ``unit`` is N*m or N at the joint)."""
+
+    joint: str
+    coordinate: int  # 0-based index into q
+    unit: str  # "N*m" (revolute) or "N" (prismatic)
+    gear_ratio: float
+    peak_torque: float  # at the joint, N*m or N
+    rms_torque: float
+    peak_motor_torque_n_m: float  # tau / N (N*m: for a prismatic joint, through a screw)
+    rms_motor_torque_n_m: float
+    peak_speed: float  # at the joint, rad/s or m/s
+    peak_motor_speed_rad_s: float
+    peak_power_w: float  # largest |tau qd|
+    mean_power_w: float  # net energy / duration
+    energy_j: float  # net work over the motion
+    exceeded: tuple[str, ...] = ()  # one sentence per limit exceeded, with the time
+
+    @property
+    def peak_motor_speed_rpm(self) -> float:
+        return self.peak_motor_speed_rad_s * RPM
+
+
+def _rms(t: np.ndarray, v: np.ndarray) -> float:
+    span = t[-1] - t[0]
+    if len(t) < 2 or span <= 0:
+        return float(np.sqrt(np.mean(v * v)))
+    return float(np.sqrt(_trapezoid(v * v, t) / span))
+
+
+def _first_over(t: np.ndarray, v: np.ndarray, limit: float | None, what: str,
+                unit: str, scale: float = 1.0) -> list[str]:
+    """The sentence for a limit ``v`` exceeds (|v| > limit), or nothing."""
+    if limit is None:
+        return []
+    over = np.abs(v) > limit
+    if not over.any():
+        return []
+    k = int(np.argmax(over))
+    peak = int(np.argmax(np.abs(v)))
+    return [(f"{what} exceeds its limit {limit * scale:.4g} {unit} from t = {t[k]:.6g} s "
+             f"(sample {k}); peak {abs(v[peak]) * scale:.4g} {unit} at t = {t[peak]:.6g} s")]
+
+
+def size(robot, t_s: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> tuple[ActuatorSizing, ...]:
+    """Sizing of every actuator of ``robot`` along a motion.
+
+    Parameters
+    ----------
+    robot : Robot
+    t_s : ndarray, shape (N,)
+        Time (s).
+    qd : ndarray, shape (N, n)
+        Every coordinate's rate (rad/s; m/s for a prismatic joint).
+    tau : ndarray, shape (N, actuated)
+        The actuated joints' torques (N*m) or forces (N), in ``robot.actuated`` order.
+    """
+    t = np.asarray(t_s, dtype=float)
+    out = []
+    params = robot.parameters
+    for k, act in enumerate(robot.actuators):
+        i = act["coordinate"]
+        ratio = params.get(f"gear_{act['joint']}", act["gear_ratio"])
+        tq, w = tau[:, k], qd[:, i]
+        power = tq * w
+        energy = float(_trapezoid(power, t)) if len(t) > 1 else 0.0
+        span = t[-1] - t[0] if len(t) > 1 else 0.0
+        unit = act["unit"]
+        exceeded = (_first_over(t, tq, act["torque_limit"], f"{act['joint']}: joint "
+                                f"{'force' if unit == 'N' else 'torque'}", unit)
+                    + _first_over(t, tq / ratio, act["motor_torque_limit"],
+                                  f"{act['joint']}: motor torque", "N*m")
+                    + _first_over(t, ratio * w, act["motor_speed_limit_rad_s"],
+                                  f"{act['joint']}: motor speed", "rpm", RPM))
+        out.append(ActuatorSizing(
+            joint=act["joint"], coordinate=i, unit=unit, gear_ratio=float(ratio),
+            peak_torque=float(np.max(np.abs(tq))), rms_torque=_rms(t, tq),
+            peak_motor_torque_n_m=float(np.max(np.abs(tq))) / ratio,
+            rms_motor_torque_n_m=_rms(t, tq) / ratio,
+            peak_speed=float(np.max(np.abs(w))),
+            peak_motor_speed_rad_s=float(np.max(np.abs(w))) * ratio,
+            peak_power_w=float(np.max(np.abs(power))),
+            mean_power_w=float(energy / span) if span > 0 else 0.0,
+            energy_j=energy, exceeded=tuple(exceeded)))
+    return tuple(out)
+
+
+def table(sizing: tuple[ActuatorSizing, ...]) -> str:
+    """A Markdown table of the sizing, one row per actuator, units in the header."""
+    if not sizing:
+        return ""
+    rows = [("| joint | gear | peak / RMS joint torque | peak / RMS motor torque (N*m) | "
+             "peak joint speed | peak motor speed (rpm) | peak / mean power (W) | energy (J) | "
+             "limits |"),
+            "|---|---|---|---|---|---|---|---|---|"]
+    for s in sizing:
+        speed_unit = "m/s" if s.unit == "N" else "rad/s"
+        limits = "; ".join(s.exceeded) if s.exceeded else "within"
+        rows.append(f"| {s.joint} | {s.gear_ratio:.4g} | {s.peak_torque:.4g} / "
+                    f"{s.rms_torque:.4g} {s.unit} | {s.peak_motor_torque_n_m:.4g} / "
+                    f"{s.rms_motor_torque_n_m:.4g} | {s.peak_speed:.4g} {speed_unit} | "
+                    f"{s.peak_motor_speed_rpm:.4g} | {s.peak_power_w:.4g} / "
+                    f"{s.mean_power_w:.4g} | {s.energy_j:.4g} | {limits} |")
+    return "\n".join(rows)
