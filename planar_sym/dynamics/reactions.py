@@ -33,9 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, LibraryError
+from ..model.description import GROUND
 from ..model.robot import Robot, as_samples
-
-GROUND = "ground"
 
 
 @dataclass(frozen=True)

@@ -103,13 +103,12 @@ def size(robot, t_s: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> tuple[Actua
                                   f"{act['joint']}: motor torque", "N*m")
                     + _first_over(t, ratio * w, act["motor_speed_limit_rad_s"],
                                   f"{act['joint']}: motor speed", "rpm", RPM))
+        peak, rms, speed = float(np.max(np.abs(tq))), _rms(t, tq), float(np.max(np.abs(w)))
         out.append(ActuatorSizing(
             joint=act["joint"], coordinate=i, unit=unit, gear_ratio=float(ratio),
-            peak_torque=float(np.max(np.abs(tq))), rms_torque=_rms(t, tq),
-            peak_motor_torque_n_m=float(np.max(np.abs(tq))) / ratio,
-            rms_motor_torque_n_m=_rms(t, tq) / ratio,
-            peak_speed=float(np.max(np.abs(w))),
-            peak_motor_speed_rad_s=float(np.max(np.abs(w))) * ratio,
+            peak_torque=peak, rms_torque=rms, peak_motor_torque_n_m=peak / ratio,
+            rms_motor_torque_n_m=rms / ratio, peak_speed=speed,
+            peak_motor_speed_rad_s=speed * ratio,
             peak_power_w=float(np.max(np.abs(power))),
             mean_power_w=float(energy / span) if span > 0 else 0.0,
             energy_j=energy, exceeded=tuple(exceeded)))

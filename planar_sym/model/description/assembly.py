@@ -28,7 +28,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .types import GROUND, Assembly, Body, Joint, wrap_angle
+from .types import GROUND, Assembly, Body, Joint, slide_offset, wrap_angle
 
 #: the loops are closed to this gap (m), far below the 1e-5 m a typed pose must close to
 ASSEMBLY_TOL_M = 1e-12
@@ -37,28 +37,12 @@ MAX_STEP_RAD = 0.3
 MAX_ITER = 100
 
 
-def _axis_world(parent: Body, j: Joint) -> tuple[float, float]:
-    """A prismatic joint's axis in world axes, with its parent body as placed."""
-    c, s = math.cos(parent.drawn_angle_rad), math.sin(parent.drawn_angle_rad)
-    ux, uy = j.axis  # type: ignore[misc]
-    return (c * ux - s * uy, s * ux + c * uy)
-
-
 def tree_angles(bodies: dict[str, Body], tree) -> dict[str, float]:
     """Every tree joint's coordinate as the bodies are placed: the angle of the child frame
     minus the parent's (rad), or for a prismatic joint the child point's distance along the axis
     from the parent point (m)."""
-    out = {}
-    for j in tree:
-        parent, child = bodies[j.parent], bodies[j.child]
-        if j.type == "prismatic":
-            a = parent.world(parent.points_m[j.parent_point])
-            b = child.world(child.points_m[j.child_point])
-            u = _axis_world(parent, j)
-            out[j.name] = (b[0] - a[0]) * u[0] + (b[1] - a[1]) * u[1]
-        else:
-            out[j.name] = child.drawn_angle_rad - parent.drawn_angle_rad
-    return out
+    return {j.name: slide_offset(bodies, j) if j.type == "prismatic" else
+            bodies[j.child].drawn_angle_rad - bodies[j.parent].drawn_angle_rad for j in tree}
 
 
 def place(bodies: dict[str, Body], tree, angles: dict[str, float]) -> dict[str, Body]:
@@ -81,7 +65,7 @@ def place(bodies: dict[str, Body], tree, angles: dict[str, float]) -> dict[str, 
         ax, ay = parent.world(parent.points_m[j.parent_point])
         if j.type == "prismatic":
             angle = parent.drawn_angle_rad + j.rel_angle_rad
-            u = _axis_world(parent, j)
+            u = parent.direction(j.axis)
             ax, ay = ax + angles[j.name] * u[0], ay + angles[j.name] * u[1]
         else:
             angle = parent.drawn_angle_rad + angles[j.name]
@@ -128,7 +112,7 @@ def gap_jacobian(bodies, tree, loops, beyond, free) -> np.ndarray:
     """d gaps / d coordinates of the joints ``free`` (exact, see the module docstring; a
     prismatic joint moves the points beyond it along its axis)."""
     pivots = {j.name: _point(bodies, j.parent, j.parent_point) for j in tree}
-    slides = {j.name: np.array(_axis_world(bodies[j.parent], j)) for j in tree
+    slides = {j.name: np.array(bodies[j.parent].direction(j.axis)) for j in tree
               if j.type == "prismatic"}
     jac = np.zeros((2 * len(loops), len(free)))
     for r, cut in enumerate(loops):

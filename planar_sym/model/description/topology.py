@@ -282,9 +282,7 @@ class Topology(Actuators):
     def _on_axis(self, j: Joint, bodies: dict[str, Body], a, b) -> None:
         """A prismatic joint's child point lies on the line through its parent point along
         the axis, in the pose as typed."""
-        ang = bodies[j.parent].drawn_angle_rad
-        ux, uy = j.axis  # type: ignore[misc]
-        wx, wy = (math.cos(ang) * ux - math.sin(ang) * uy, math.sin(ang) * ux + math.cos(ang) * uy)
+        wx, wy = bodies[j.parent].direction(j.axis)  # type: ignore[arg-type]
         off = abs((b[0] - a[0]) * wy - (b[1] - a[1]) * wx)
         if off > CLOSURE_TOLERANCE_M:
             self.err(f"joints ({j.name})",

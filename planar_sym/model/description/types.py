@@ -63,6 +63,15 @@ GROUND = "ground"
 MOVING = ("revolute", "prismatic")
 
 
+def slide_offset(bodies: dict[str, Body], j: Joint) -> float:
+    """How far (m) a prismatic joint's child point lies along the axis from its parent point,
+    with the bodies as placed."""
+    par, ch = bodies[j.parent], bodies[j.child]
+    a, b = par.world(par.points_m[j.parent_point]), ch.world(ch.points_m[j.child_point])
+    u = par.direction(j.axis)  # type: ignore[arg-type]
+    return (b[0] - a[0]) * u[0] + (b[1] - a[1]) * u[1]
+
+
 def snap_offset(v: float) -> float:
     """A drawn slide offset (m) with rounding below ``ZERO_SNAP_M`` made an exact zero."""
     return 0.0 if abs(v) < ZERO_SNAP_M else v
@@ -92,6 +101,11 @@ class Body:
     #: a massless link carrying its whole mass at one of its points (``mass_at``): izz is an
     #: exact structural 0, not a parameter
     point_mass: bool = False
+
+    def direction(self, local: tuple[float, float]) -> tuple[float, float]:
+        """A body-frame direction (a prismatic joint's axis) in world axes, drawn configuration."""
+        c, s = math.cos(self.drawn_angle_rad), math.sin(self.drawn_angle_rad)
+        return (c * local[0] - s * local[1], s * local[0] + c * local[1])
 
     def world(self, local: tuple[float, float]) -> tuple[float, float]:
         """A body-frame position (m) in world coordinates of the drawn configuration (m)."""
@@ -274,12 +288,7 @@ class Description:
     def slide_offset_m(self, j: Joint) -> float:
         """A prismatic joint's drawn offset: the child point's distance along the axis from
         the parent point in the drawn configuration (m); its coordinate adds to it."""
-        par, ch = self.bodies[j.parent], self.bodies[j.child]
-        a = par.world(par.points_m[j.parent_point])
-        b = ch.world(ch.points_m[j.child_point])
-        c, s = math.cos(par.drawn_angle_rad), math.sin(par.drawn_angle_rad)
-        ux, uy = j.axis  # type: ignore[misc]
-        return (b[0] - a[0]) * (c * ux - s * uy) + (b[1] - a[1]) * (s * ux + c * uy)
+        return slide_offset(self.bodies, j)
 
     def parameters(self) -> tuple[Parameter, ...]:
         """The parameter vector: every non-zero physical quantity, in a fixed order.
