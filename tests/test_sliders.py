@@ -158,6 +158,11 @@ def _cart(**joint) -> str:
      "joints[1] (hinge).axis", "only a prismatic joint has an axis"),
     ('actuated = true\n', 'actuated = true\ndisplacement = 0.1\n',
      "joints[0] (slide).displacement", "only with pose = 'joints'"),
+    # a student's typos: one mistake, one message (no 'axis' or 'displacement' on top)
+    ('type = "prismatic"', 'type = "Prismatic"', "joints[0] (slide).type",
+     "must be 'revolute', 'prismatic' or 'weld' (got 'Prismatic')"),
+    ("actuated = true\n", "", "joints[0] (slide).actuated",
+     "missing: true where a motor drives the joint, false where it is passive"),
 ])
 def test_bad_prismatic_joints(tmp_path, old, new, field, message):
     with pytest.raises(DescriptionError) as info:

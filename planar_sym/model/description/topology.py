@@ -47,7 +47,10 @@ class Topology(Actuators):
         ends = [self._end(raw, key, f, bodies) for key in ("parent", "child")]
         # actuated is required of a coordinate only: a wrong type is one problem, not two
         actuated = raw.get("actuated", None if jtype in MOVING else False)
-        if not isinstance(actuated, bool):
+        if actuated is None:
+            self.err(f"{f}.actuated", "missing: true where a motor drives the joint, false where "
+                                      "it is passive")
+        elif not isinstance(actuated, bool):
             self.err(f"{f}.actuated", f"must be true or false (got {actuated!r})")
         loop = raw.get("closes_loop", False)
         if not isinstance(loop, bool):
@@ -62,13 +65,14 @@ class Topology(Actuators):
                                          "point equations of a revolute cut): cut the loop at "
                                          "one of its revolute joints, and make this one a tree "
                                          "joint (closes_loop = false)")
-        axis = self._axis(raw, f, jtype, ends[0], bodies)
+        known = jtype in JOINT_TYPES  # else the type is the one mistake: nothing more on it
+        axis = self._axis(raw, f, jtype, ends[0], bodies) if known else None
         actuator = self._actuator(raw, f, jtype, actuated, scale)
         if jtype == "prismatic":
             angle = self._slide(raw, f, pose, loop is True, scale)
             rel = self._rel_angle(raw, f, pose, scale.get("angle"), ends, bodies)
         else:
-            if "displacement" in raw:
+            if "displacement" in raw and known:
                 self.err(f"{f}.displacement", "only a prismatic joint has a displacement")
             angle = self._angle(raw, f, pose, loop is True, scale.get("angle"))
             rel = None
