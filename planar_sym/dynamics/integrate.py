@@ -143,6 +143,15 @@ def dopri5(robot: Robot, kind: int, fn: int, y0: np.ndarray, t: np.ndarray, tau:
 
 
 _INTEGRATOR = None
+_HELPER = None
+
+
+def helper():
+    """The compiled ``_integrate.c`` (once per source hash), loaded with ctypes."""
+    global _HELPER
+    if _HELPER is None:
+        _HELPER = load_helper(Path(__file__).resolve().parent / "_integrate.c")
+    return _HELPER
 
 
 def integrator():
@@ -151,7 +160,7 @@ def integrator():
     if _INTEGRATOR is None:
         import ctypes
 
-        fn = load_helper(Path(__file__).resolve().parent / "_integrate.c").planar_sym_dopri5
+        fn = helper().planar_sym_dopri5
         ptr = ctypes.c_void_p
         fn.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int, ptr, ptr, ptr,
                        ptr, ctypes.c_double, ptr, ctypes.c_int, ptr, ctypes.c_double,

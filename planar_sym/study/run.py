@@ -70,6 +70,10 @@ def run(study: str | Path | specs.Study, samples: int | None = None) -> Result:
     robot = robot_of(st)
     if st.kind == "forward":
         return _forward(st, robot, samples)
+    if st.kind == "control":
+        from .control_run import run_control
+
+        return run_control(st, robot, samples)
     jt, x = joint_motion(st, robot, samples)
     return _inverse(st, robot, jt, x)
 

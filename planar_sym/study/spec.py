@@ -4,7 +4,9 @@
 
     title = "5-bar Type I, P 30 mm diagonally in 1.5 s"
     robot = "five_bar_type1"       # built-in name, a description file (.toml) or a generated folder
-    kind = "inverse"               # "inverse": torques along a motion; "forward": simulate
+    kind = "inverse"               # "inverse": torques along a motion; "forward": simulate;
+                                   # "control": track the motion under a controller
+                                   # ([control], [events]: see study/control_spec.py)
 
     [units]                        # of this file's numbers; default m and rad (time is in s)
     length = "mm"
@@ -43,6 +45,7 @@ from pathlib import Path
 
 from ..model.units import factor
 from .checks import Checker, StudyError, finite
+from .control_spec import ControlSpec, EventsSpec, parse_control, parse_events
 
 PROFILES = ("cubic", "quintic", "trapezoid", "via", "table")
 SOLVERS = ("auto", "seed", "newton")
@@ -53,7 +56,8 @@ MAX_SAMPLES = 1_000_000
 MAX_DURATION_S = 1e6
 MAX_FRAMES = 2000
 
-_TOP = {"title", "robot", "kind", "units", "parameters", "motion", "simulation", "outputs", "notes"}
+_TOP = {"title", "robot", "kind", "units", "parameters", "motion", "simulation", "outputs", "notes",
+        "control", "events"}
 _UNITS = {"length", "angle"}
 _MOTION = {"space", "profile", "start", "by", "end", "duration", "samples", "v_max", "a_max",
            "times", "points", "file", "ik", "start_pose"}
@@ -119,6 +123,8 @@ class Study:
     simulation: Simulation | None = None
     outputs: Outputs = Outputs()
     path: Path | None = None
+    control: ControlSpec | None = None
+    events: EventsSpec | None = None
 
     @property
     def length_si(self) -> float:
@@ -146,28 +152,36 @@ def parse(data: dict, name: str, path: Path | None = None) -> Study:
     c = _Checker(path)
     c.keys(data, _TOP, "")
     robot = c.string(data, "robot", "robot")
-    kind = c.choice(data, "kind", "kind", ("inverse", "forward"))
+    kind = c.choice(data, "kind", "kind", ("inverse", "forward", "control"))
     units = c.table(data, "units")
     c.keys(units, _UNITS, "units.")
     length = c.unit(units, "length", "m")
     angle = c.unit(units, "angle", "rad")
     params = c.parameters(c.table(data, "parameters"))
-    motion = sim = None
-    if kind == "inverse":
+    motion = sim = control = events = None
+    if kind in ("inverse", "control"):
         motion = c.motion(c.table(data, "motion", required=True))
         if "simulation" in data:
-            c.err("simulation", "only for kind = \"forward\" (this study is \"inverse\")")
+            c.err("simulation", f"only for kind = \"forward\" (this study is \"{kind}\")")
     elif kind == "forward":
         sim = c.simulation(c.table(data, "simulation", required=True))
         if "motion" in data:
-            c.err("motion", "only for kind = \"inverse\" (this study is \"forward\")")
+            c.err("motion", "only for kind = \"inverse\" or \"control\" (this study is "
+                            "\"forward\")")
+    if kind == "control":
+        control = parse_control(c, c.table(data, "control", required=True), c.parameters)
+        events = parse_events(c, c.table(data, "events"))
+    elif kind is not None:
+        for key in ("control", "events"):
+            if key in data:
+                c.err(key, f"only for kind = \"control\" (this study is \"{kind}\")")
     outputs = c.outputs(c.table(data, "outputs"))
     title = data.get("title", name)
     if not isinstance(title, str):
         c.err("title", f"must be a string (got {title!r})")
     c.done()
     return Study(name, str(title), c.robot_ref(robot), kind, length, angle, params, motion, sim,
-                 outputs, path)
+                 outputs, path, control, events)
 
 
 class _Checker(Checker):
@@ -179,10 +193,11 @@ class _Checker(Checker):
             return robot or ""
         return str((self.base / robot).resolve())
 
-    def parameters(self, tbl: dict) -> dict[str, tuple[float, str | None]]:
+    def parameters(self, tbl: dict, section: str = "parameters"
+                   ) -> dict[str, tuple[float, str | None]]:
         out = {}
         for name, v in tbl.items():
-            fld = f"parameters.{name}"
+            fld = f"{section}.{name}"
             if isinstance(v, str):
                 value, _, unit = v.strip().partition(" ")
                 try:

@@ -1,0 +1,114 @@
+"""Events along a controlled run: a joint reaching its limit, an actuator asked for more
+than it can give, a loop that cannot stay assembled; each found to the integrator's accuracy
+and reported with its time.
+
+Each event is a function of the state that is positive while all is well (``kind``):
+
+.. code:: text
+
+    0  q_i - lower          joint i at its lower limit
+    1  upper - q_i          joint i at its upper limit
+    2  limit - |tau_cmd_a|  actuator a commanded beyond its torque (force) limit
+    3  limit - |qd_i|       joint i faster than its motor allows (motor limit / gear ratio)
+
+The C integrator locates a sign change within a step by bisection on its dense output.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+
+ACTIONS = ("stop", "continue")
+
+
+@dataclass(frozen=True)
+class EventSpec:
+    """One event function: kind (above), index (coordinate, or actuator for kind 2),
+    value (SI), whether it stops the run, and its name in reports."""
+
+    kind: int
+    index: int
+    value: float
+    stop: bool
+    name: str
+
+
+@dataclass(frozen=True)
+class Event:
+    """An event that happened: its name, time (s), and whether the run stopped there."""
+
+    name: str
+    time_s: float
+    stopped: bool
+
+    def __str__(self) -> str:
+        return f"{self.name} at t = {self.time_s:.6g} s{' (run stopped)' if self.stopped else ''}"
+
+
+def joint_limit_events(robot, limits: dict, action: str) -> list[EventSpec]:
+    """Events for ``limits`` {coordinate name or index: (lower, upper)} in SI (rad or m)."""
+    _check_action("on_joint_limit", action)
+    out = []
+    for key, bounds in (limits or {}).items():
+        i = _coordinate(robot, key)
+        name = robot.coordinates[i]
+        try:
+            lo, hi = (float(b) for b in bounds)
+        except (TypeError, ValueError):
+            raise InputError(f"joint limit of {name}: give [lower, upper] (got {bounds!r})") \
+                from None
+        if not (np.isfinite(lo) and np.isfinite(hi)) or lo >= hi:
+            raise InputError(f"joint limit of {name}: need finite lower < upper (got "
+                             f"[{lo:g}, {hi:g}])")
+        unit = robot.coordinate_units[i]
+        out += [EventSpec(0, i, lo, action == "stop",
+                          f"joint {name} reached its lower limit {lo:.6g} {unit}"),
+                EventSpec(1, i, hi, action == "stop",
+                          f"joint {name} reached its upper limit {hi:.6g} {unit}")]
+    return out
+
+
+def actuator_events(robot, action: str) -> tuple[list[EventSpec], np.ndarray]:
+    """Events for every actuator limit the description gives, and the joint-side torque bound
+    per actuated coordinate (inf where none): what saturation clips at."""
+    _check_action("on_actuator_limit", action)
+    params = robot.parameters
+    out, bound = [], np.full(len(robot.actuated), np.inf)
+    for a, act in enumerate(robot.actuators):
+        ratio = params.get(f"gear_{act['joint']}", act["gear_ratio"])
+        joint = act["joint"]
+        limits = [v for v in (act["torque_limit"],
+                              None if act["motor_torque_limit"] is None
+                              else act["motor_torque_limit"] * ratio) if v is not None]
+        if limits:
+            bound[a] = min(limits)
+            what = "force" if act["unit"] == "N" else "torque"
+            out.append(EventSpec(2, a, bound[a], action == "stop",
+                                 f"actuator {joint} commanded beyond its {what} limit "
+                                 f"{bound[a]:.4g} {act['unit']}"))
+        if act["motor_speed_limit_rad_s"] is not None:
+            v = act["motor_speed_limit_rad_s"] / ratio
+            unit = "m/s" if act["unit"] == "N" else "rad/s"
+            out.append(EventSpec(3, act["coordinate"], v, action == "stop",
+                                 f"joint {joint} faster than its motor's limit ({v:.4g} {unit} "
+                                 "at the joint)"))
+    return out, bound
+
+
+def _check_action(field: str, action: str) -> None:
+    if action not in ACTIONS:
+        raise InputError(f"{field} must be \"stop\" or \"continue\" (got {action!r})")
+
+
+def _coordinate(robot, key) -> int:
+    if isinstance(key, (int, np.integer)) and not isinstance(key, bool):
+        if 0 <= key < robot.n:
+            return int(key)
+    elif key in robot.coordinates:
+        return robot.coordinates.index(key)
+    raise InputError(f"joint limit for {key!r}: not a coordinate of {robot.name} "
+                     f"(coordinates: {', '.join(robot.coordinates)})")

@@ -1,0 +1,442 @@
+"""A robot under control, simulated in C: the plant, the controller, the input tables and the
+events in one compiled loop (``_integrate.c``), no Python per step.
+
+``simulate_controlled`` is the entry point; ``ControlledRun`` its result. The controller's
+model is ``robot`` (its parameters are the nominal ones); ``plant`` is the robot that moves
+(the same description, perhaps other parameters: a model error). Closed chains run in
+segments re-projected onto the loops, as free simulations do (``forward_closed``).
+"""
+
+from __future__ import annotations
+
+import ctypes
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError, SimulationError
+from ..model.description import COULOMB_SMOOTHING
+from ..model.robot import Robot, as_vector
+from ..motion.profiles import JointTrajectory
+from .events import Event, EventSpec, actuator_events, joint_limit_events
+from .laws import Controller
+from .signals import Signal, from_motion
+
+_P = ctypes.c_void_p
+MAX_EVENTS_LOGGED = 256
+#: closed chains: the run is re-projected onto the loops this often (s), and a segment whose
+#: loops open by more than DRIFT_LIMIT_M stops the run as an event
+SEGMENT_S = 0.1
+DRIFT_LIMIT_M = 1e-6
+LOOP_EVENT = "the loops could not stay assembled"
+
+
+class _CSignal(ctypes.Structure):
+    _fields_ = [("n_knots", ctypes.c_int), ("n_ch", ctypes.c_int), ("deg", ctypes.c_int),
+                ("T", _P), ("c", _P)]
+
+
+class _CControl(ctypes.Structure):  # mirrors Control in _integrate.c
+    _fields_ = [("mode", ctypes.c_int), ("saturate", ctypes.c_int),
+                ("kp", _P), ("kd", _P), ("p_nom", _P), ("tau_const", _P), ("lo", _P),
+                ("hi", _P), ("fv", _P), ("fc", _P), ("vs", _P),
+                ("gravity", _P), ("inverse", _P), ("closed_inverse", _P), ("jac", _P),
+                ("bias", _P), ("ref", _CSignal), ("input", _CSignal),
+                ("n_ev", ctypes.c_int), ("ev_kind", _P), ("ev_index", _P), ("ev_stop", _P),
+                ("ev_value", _P), ("armed", _P), ("max_log", ctypes.c_int),
+                ("n_log", ctypes.c_int), ("log_ev", _P), ("log_t", _P),
+                ("stopped", ctypes.c_int), ("t_stop", ctypes.c_double), ("y_stop", _P),
+                ("hint_ref", ctypes.c_int), ("hint_input", ctypes.c_int)]
+
+
+@dataclass(frozen=True)
+class ControlledRun:
+    """A controlled run at times ``t_s`` (N,): every coordinate ``q``, ``qd`` (N, n); on the
+    actuated coordinates the reference ``q_ref``, ``qd_ref`` (N, actuated), the commanded
+    torques ``tau_cmd`` and the applied (saturated) ones ``tau`` (N*m or N); the plant's
+    energies, the actuators' work ``work_j`` = int tau . qd dt and the friction loss
+    ``friction_j`` = int D(qd) . qd dt, both integrated with the state (J)."""
+
+    t_s: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    q_ref: np.ndarray
+    qd_ref: np.ndarray
+    tau_cmd: np.ndarray
+    tau: np.ndarray
+    kinetic_j: np.ndarray
+    potential_j: np.ndarray
+    work_j: np.ndarray
+    friction_j: np.ndarray
+    actuated: tuple[int, ...]
+    controller: Controller
+    method: str
+    rtol: float
+    atol: float
+    n_rhs: int
+    events: tuple[Event, ...] = ()
+    constraint_drift_m: float = 0.0
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def stopped(self) -> Event | None:
+        """The event that stopped the run, if one did."""
+        return next((e for e in self.events if e.stopped), None)
+
+    @property
+    def error(self) -> np.ndarray:
+        """Tracking error q_ref - q on the actuated coordinates (N, actuated)."""
+        return self.q_ref - self.q[:, list(self.actuated)]
+
+    @property
+    def energy_j(self) -> np.ndarray:
+        return self.kinetic_j + self.potential_j
+
+    @property
+    def balance_residual(self) -> float:
+        """max |E(t) - E(0) - (W(t) - F(t))| over the run, relative to the largest of |E|,
+        |W| and |F| (J/J): the energy the actuators put in, less friction, is what the robot
+        gained, up to the integrator's accuracy."""
+        e = self.energy_j - self.energy_j[0]
+        gap = e - (self.work_j - self.friction_j)
+        scale = max(np.max(np.abs(self.energy_j)), np.max(np.abs(self.work_j)),
+                    np.max(np.abs(self.friction_j)), 1e-300)
+        return float(np.max(np.abs(gap)) / scale)
+
+
+def _array(a, dtype=float) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=dtype)
+
+
+class _Setup:
+    """The C Control struct and every array it points to (kept alive here)."""
+
+    def __init__(self, robot: Robot, plant: Robot, ctl: Controller, ref: Signal | None,
+                 torque: np.ndarray | Signal | None, events: list[EventSpec],
+                 bound: np.ndarray):
+        na, n = len(robot.actuated), robot.n
+        lib = robot.library
+        self.keep = []
+        c = _CControl()
+        c.mode = ctl.mode
+        c.saturate = int(ctl.saturate and np.isfinite(bound).any())
+        c.kp = self._ptr(ctl.kp or np.zeros(na))
+        c.kd = self._ptr(ctl.kd or np.zeros(na))
+        c.p_nom = self._ptr(robot.p)
+        c.lo, c.hi = self._ptr(-bound), self._ptr(bound)
+        fv, fc, vs = _friction(plant)
+        c.fv, c.fc, c.vs = self._ptr(fv), self._ptr(fc), self._ptr(vs)
+        if isinstance(torque, Signal):
+            c.input = self._signal(torque)
+        elif torque is not None:
+            c.tau_const = self._ptr(torque)
+        if ref is not None:
+            c.ref = self._signal(ref)
+        for slot, quantity in (("gravity", "gravity"), ("inverse", "inverse_dynamics"),
+                               ("closed_inverse", "closed_inverse_dynamics"),
+                               ("jac", "constraint_jacobian"), ("bias", "constraint_bias")):
+            if quantity in lib.manifest["functions"]:
+                setattr(c, slot, lib.address(quantity))
+        c.n_ev = len(events)
+        c.ev_kind = self._ptr([e.kind for e in events], np.intc)
+        c.ev_index = self._ptr([e.index for e in events], np.intc)
+        c.ev_stop = self._ptr([int(e.stop) for e in events], np.intc)
+        c.ev_value = self._ptr([e.value for e in events])
+        self.armed = _array(np.ones(max(len(events), 1)), np.intc)
+        c.armed = self.armed.ctypes.data
+        c.max_log = MAX_EVENTS_LOGGED
+        self.log_ev = np.zeros(MAX_EVENTS_LOGGED, dtype=np.intc)
+        self.log_t = np.zeros(MAX_EVENTS_LOGGED)
+        c.log_ev, c.log_t = self.log_ev.ctypes.data, self.log_t.ctypes.data
+        self.y_stop = np.zeros(2 * n + 2)
+        c.y_stop = self.y_stop.ctypes.data
+        self.c = c
+        self.act = _array(robot.actuated, np.intc)
+
+    def _ptr(self, a, dtype=float) -> int:
+        arr = _array(a if len(a) else [0], dtype)
+        self.keep.append(arr)
+        return arr.ctypes.data
+
+    def _signal(self, s: Signal) -> _CSignal:
+        out = _CSignal()
+        out.n_knots, out.n_ch, out.deg = len(s.knots_s), s.channels, s.degree
+        out.T, out.c = self._ptr(s.knots_s), self._ptr(s.coefficients.ravel())
+        return out
+
+
+def _friction(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per coordinate: viscous b, Coulomb c and smoothing v_s of D = b qd + c tanh(qd / v_s)."""
+    params = robot.parameters
+    fv, fc, vs = np.zeros(robot.n), np.zeros(robot.n), np.ones(robot.n)
+    for act in robot.actuators:
+        i, j = act["coordinate"], act["joint"]
+        fv[i] = params.get(f"fv_{j}", 0.0)
+        fc[i] = params.get(f"fc_{j}", 0.0)
+        vs[i] = params.get(f"vs_{j}", COULOMB_SMOOTHING)
+    return fv, fc, vs
+
+
+def _functions():
+    from ..dynamics.integrate import helper
+
+    lib = helper()
+    run = lib.planar_sym_dopri5_ctl
+    run.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int, _P, _P, _P, _P,
+                    ctypes.POINTER(_CControl), ctypes.c_double, _P, ctypes.c_int, _P,
+                    ctypes.c_double, ctypes.c_double, ctypes.c_longlong, _P, _P, _P]
+    run.restype = ctypes.c_int
+    ev = lib.planar_sym_control_eval
+    ev.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, _P, _P, ctypes.POINTER(_CControl),
+                   ctypes.c_longlong, _P, _P, _P, _P, _P]
+    ev.restype = ctypes.c_int
+    return run, ev
+
+
+def control_values(robot: Robot, setup: _Setup, t: np.ndarray, y: np.ndarray):
+    """Commanded and applied torques (N, actuated) and event values (N, events) at states
+    ``y`` (N, 2n) and times ``t`` (s), from the compiled controller."""
+    _, ev = _functions()
+    na, n_ev = len(robot.actuated), setup.c.n_ev
+    t, y = _array(t), _array(y[:, :2 * robot.n])
+    cmd, app = np.empty((len(t), na)), np.empty((len(t), na))
+    g = np.empty((len(t), max(n_ev, 1)))
+    rc = ev(robot.n, robot.n_constraints, na, setup.act.ctypes.data, robot.p.ctypes.data, ctypes.byref(setup.c), len(t), t.ctypes.data,
+            y.ctypes.data, cmd.ctypes.data, app.ctypes.data, g.ctypes.data)
+    if rc:
+        raise SimulationError(f"{robot.name}: the controller failed at t = {t[rc - 1]:.6g} s "
+                              "(a singular pose of the controller's model?)")
+    return cmd, app, g[:, :n_ev]
+
+
+def check_controller(robot: Robot, ctl: Controller) -> None:
+    """Refuse a law the robot cannot carry out."""
+    if ctl.kind == "computed_torque" and not robot.is_closed_chain \
+            and len(robot.actuated) != robot.n:
+        passive = [robot.coordinates[i] for i in range(robot.n) if i not in robot.actuated]
+        raise InputError(f"{robot.name}: computed-torque control needs every coordinate "
+                         f"actuated or set by the loops; {', '.join(passive)} "
+                         f"{'is' if len(passive) == 1 else 'are'} passive (underactuated): "
+                         "use controller \"pd\"")
+    if robot.is_closed_chain and robot.n - len(robot.actuated) != robot.n_constraints:
+        raise InputError(f"{robot.name}: control of a closed chain needs as many passive "
+                         f"coordinates ({robot.n - len(robot.actuated)}) as loop equations "
+                         f"({robot.n_constraints})")
+    for k in (ctl.kp, ctl.kd):
+        if k and len(k) != len(robot.actuated):
+            raise InputError(f"{robot.name}: {len(k)} gains for {len(robot.actuated)} "
+                             "actuated joints")
+
+
+def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
+                        reference: JointTrajectory | Signal | None = None,
+                        plant: Robot | None = None, q0=None, qd0=None, torque=None,
+                        t_eval=None, joint_limits: dict | None = None,
+                        on_joint_limit: str = "stop", on_actuator_limit: str = "continue",
+                        method: str = "dopri5", rtol: float = 1e-10, atol: float = 1e-12,
+                        max_steps: int = 10_000_000) -> ControlledRun:
+    """Simulate ``plant`` (default: ``robot``) under ``controller`` over ``t_span`` (s).
+
+    Parameters
+    ----------
+    robot : Robot
+        The controller's model: its parameters are the nominal ones.
+    controller : Controller
+        From ``planar_sym.control.controller``: the law, its gains, and whether torques are
+        clipped at the actuator limits of the description (``[joints.actuator]``).
+    reference : JointTrajectory or Signal
+        What to track: a JointTrajectory (every coordinate, e.g. ``Robot.inverse_kinematics``
+        or a study's motion; interpolated by quintic Hermite polynomials through its samples),
+        or a Signal over the actuated coordinates (rad or m). Must cover ``t_span``.
+    plant : Robot, optional
+        The robot that moves: the same description with other parameters (a model error).
+    q0, qd0 : array, optional
+        Initial state, every coordinate (rad or m; /s); default: the reference's first sample.
+        A closed chain's must be on the loops.
+    torque : None, (actuated,) array or Signal
+        Input torques added to the controller's (N*m or N): constant, or a Signal of time
+        (``signals.from_table``); the only input of controller "none".
+    joint_limits : dict, optional
+        {coordinate name or index: (lower, upper)} in rad or m: events.
+    on_joint_limit, on_actuator_limit : "stop" or "continue"
+        What an event does. Actuator limits are those of the description.
+    method : "dopri5" (C, default), "cvodes" or "idas" (SUNDIALS through CasADi)
+
+    Returns
+    -------
+    ControlledRun
+        Raises InputError for bad input, including an event that fires at the start.
+    """
+    from ..dynamics.forward_closed import initial_state, project
+    from ..dynamics.integrate import check_tolerances, time_grid
+
+    if not isinstance(robot, Robot):
+        raise InputError(f"simulate_controlled needs a Robot (planar_sym.load), got "
+                         f"{type(robot).__name__}")
+    if not isinstance(controller, Controller):
+        raise InputError("controller: make one with planar_sym.control.controller(kind, kp, kd)")
+    plant = robot if plant is None else plant
+    if not isinstance(plant, Robot) or plant.name != robot.name:
+        raise InputError(f"the plant must be the same robot as the controller's model "
+                         f"({robot.name}), perhaps with other parameters (with_parameters)")
+    check_controller(robot, controller)
+    check_tolerances(rtol, atol)
+    t = time_grid(t_span, t_eval)
+    t0, t1 = float(t_span[0]), float(t_span[1])
+    n, na, act = robot.n, len(robot.actuated), list(robot.actuated)
+    ref = _reference(robot, reference, controller)
+    if ref is not None:
+        ref.covers(t0, t1, "the reference motion")
+    u = _torque_input(torque, na, t0, t1)
+    if q0 is None:
+        if isinstance(reference, JointTrajectory):
+            q0 = reference.q[0] if reference.t_s[0] == t0 else None
+            qd0 = reference.qd[0] if qd0 is None and q0 is not None else qd0
+        elif ref is not None and na == n:
+            q0, qd0 = ref(t0)[0], (ref(t0, 1)[0] if qd0 is None else qd0)
+        if q0 is None:
+            raise InputError("give q0 (every coordinate): the reference does not say where "
+                             "the passive joints start")
+    q0 = as_vector("q0", q0, n)
+    qd0 = np.zeros(n) if qd0 is None else as_vector("qd0", qd0, n)
+    if robot.is_closed_chain:
+        q0, qd0 = initial_state(plant, q0, qd0, False)
+    specs = joint_limit_events(robot, joint_limits, on_joint_limit)
+    act_specs, bound = actuator_events(plant, on_actuator_limit)
+    specs += act_specs
+    setup = _Setup(robot, plant, controller, ref, u, specs, bound)
+    y0 = np.concatenate([q0, qd0, [0.0, 0.0]])
+    _, _, g0 = control_values(robot, setup, np.array([t0]), y0[None])
+    for k, s in enumerate(specs):
+        if not g0[0, k] > 0:
+            raise InputError(f"an event fires at t = {t0:g} s, before the run starts: {s.name}"
+                             f" (give a start inside the limits, or a reference that starts "
+                             "there)")
+    if method in ("cvodes", "idas"):
+        from .sundials import integrate as sundials
+
+        ys, t_out, n_rhs, drift, loop_event = sundials(robot, plant, setup, controller, ref, u,
+                                                       y0, t, method, rtol, atol)
+        events = [Event(specs[k].name, float(tt), False) for k, tt in
+                  _output_events(g_fn=lambda yy, tt: control_values(robot, setup, tt, yy)[2],
+                                 ys=ys, t=t_out)]
+    elif method == "dopri5":
+        ys, t_out, n_rhs, drift, loop_event = _dopri5(robot, plant, setup, y0, t, rtol, atol,
+                                                      max_steps, project)
+        events = [Event(specs[int(k)].name, float(tt), bool(specs[int(k)].stop))
+                  for k, tt in zip(setup.log_ev[:setup.c.n_log], setup.log_t[:setup.c.n_log])]
+        if setup.c.stopped:  # only the first stop event stops; later ones never happened
+            first = min(e.time_s for e in events if e.stopped)
+            events = [e if e.time_s <= first else Event(e.name, e.time_s, False)
+                      for e in events if e.time_s <= first]
+    else:
+        raise InputError(f"unknown method {method!r}; known: dopri5, cvodes, idas")
+    if loop_event is not None:
+        events.append(Event(LOOP_EVENT + f" ({loop_event[1]})", loop_event[0], True))
+    q, qd = ys[:, :n], ys[:, n:2 * n]
+    cmd, app, _ = control_values(robot, setup, t_out, ys)
+    kin, pot = plant.energy(q, qd)
+    q_ref = ref(t_out) if ref is not None else q[:, act]
+    qd_ref = ref(t_out, 1) if ref is not None else qd[:, act]
+    return ControlledRun(t_out, q, qd, q_ref, qd_ref, cmd, app, kin, pot, ys[:, 2 * n],
+                         ys[:, 2 * n + 1], tuple(act), controller, method, rtol, atol, n_rhs,
+                         tuple(sorted(events, key=lambda e: e.time_s)), drift)
+
+
+def _reference(robot: Robot, reference, ctl: Controller) -> Signal | None:
+    na = len(robot.actuated)
+    if reference is None:
+        if ctl.kind != "none":
+            raise InputError(f"controller {ctl.kind!r} needs a reference motion to track")
+        return None
+    if isinstance(reference, JointTrajectory):
+        act = list(robot.actuated)
+        return from_motion(reference.t_s, reference.q[:, act], reference.qd[:, act],
+                           reference.qdd[:, act])
+    if isinstance(reference, Signal):
+        if reference.channels != na:
+            raise InputError(f"the reference has {reference.channels} channels; "
+                             f"{robot.name} has {na} actuated joints")
+        return reference
+    raise InputError("reference: a JointTrajectory (every coordinate) or a Signal over the "
+                     f"actuated joints (got {type(reference).__name__})")
+
+
+def _torque_input(torque, na: int, t0: float, t1: float):
+    if torque is None or isinstance(torque, Signal):
+        if isinstance(torque, Signal):
+            if torque.channels != na:
+                raise InputError(f"the torque table has {torque.channels} columns for {na} "
+                                 "actuated joints")
+            torque.covers(t0, t1, "the torque table")
+        return torque
+    if callable(torque):
+        raise InputError("a torque function of time runs in Python; in the compiled loop give "
+                         "a table (planar_sym.control.signals.from_table) or a constant")
+    return as_vector("torque", torque, na)
+
+
+def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps, project):
+    run, _ = _functions()
+    n, m = plant.n, plant.n_constraints
+    kind = 1 if m else 0
+    fn = plant.library.address("constrained_terms" if m else "forward_dynamics")
+    stats = np.zeros(4, dtype=np.int64)
+    t_fail = ctypes.c_double()
+    d = 2 * n + 2
+    rows, times, n_rhs, drift = [y0], [t[0]], 0, 0.0
+    k, y = 0, y0.copy()
+    while k < len(t) - 1:
+        end = len(t) - 1 if not m else min(max(int(np.searchsorted(
+            t, t[k] + SEGMENT_S, side="right")) - 1, k + 1), len(t) - 1)
+        tt = _array(t[k:end + 1])
+        out = np.empty((len(tt), d))
+        rc = run(kind, n, m, len(setup.act), setup.act.ctypes.data, 0, plant.p.ctypes.data,
+                 fn, ctypes.byref(setup.c), float(tt[0]), _array(y).ctypes.data, len(tt),
+                 tt.ctypes.data, rtol, atol, max_steps, out.ctypes.data, stats.ctypes.data,
+                 ctypes.byref(t_fail))
+        n_rhs += int(stats[0])
+        got = int(stats[3])
+        if rc:
+            if m and rc in (1, 2):  # a singular KKT matrix: the loops cannot be closed here
+                rows += list(out[1:got])
+                times += list(tt[1:got])
+                return (np.array(rows), np.array(times), n_rhs, drift,
+                        (t_fail.value, "singular constraint matrix"))
+            from ..dynamics.integrate import _DOPRI5_ERRORS
+
+            raise SimulationError(f"{robot.name}: integration failed at t = "
+                                  f"{t_fail.value:.6g} s: {_DOPRI5_ERRORS.get(rc, rc)}")
+        rows += list(out[1:got])
+        times += list(tt[1:got])
+        if setup.c.stopped:
+            rows.append(setup.y_stop.copy())
+            times.append(setup.c.t_stop)
+            break
+        if m:
+            seg = np.max(np.abs(plant.constraint(out[1:, :n]))) if got > 1 else 0.0
+            drift = max(drift, float(seg))
+            if not seg <= DRIFT_LIMIT_M:
+                return (np.array(rows), np.array(times), n_rhs, drift,
+                        (float(tt[0]), (f"|Phi| reached {seg:.3g} m by t = {tt[-1]:.6g} s, "
+                                        f"above {DRIFT_LIMIT_M:g} m")))
+            qp, qdp = project(plant, out[-1, :n], out[-1, n:2 * n])
+            y = np.concatenate([qp, qdp, out[-1, 2 * n:]])
+        k = end
+    return np.array(rows), np.array(times), n_rhs, drift, None
+
+
+def _output_events(g_fn, ys, t):
+    """Events seen on the output grid (the SUNDIALS route): the first sample at which each
+    event function is no longer positive, its time found by linear interpolation."""
+    g = g_fn(ys, t)
+    out = []
+    for k in range(g.shape[1]):
+        bad = g[:, k] <= 0
+        if bad.any():
+            j = int(np.argmax(bad))
+            if j == 0:
+                continue
+            frac = g[j - 1, k] / (g[j - 1, k] - g[j, k])
+            out.append((k, t[j - 1] + frac * (t[j] - t[j - 1])))
+    return out
