@@ -152,6 +152,7 @@ class _Setup:
         c.y_stop = self.y_stop.ctypes.data
         self.c = c
         self.act = _array(robot.actuated, np.intc)
+        self.bound = bound
 
     def _ptr(self, a, dtype=float) -> int:
         arr = _array(a if len(a) else [0], dtype)
@@ -267,7 +268,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     ControlledRun
         Raises InputError for bad input, including an event that fires at the start.
     """
-    from ..dynamics.forward_closed import initial_state, project
+    from ..dynamics.forward_closed import initial_state
     from ..dynamics.integrate import check_tolerances, time_grid
 
     if not isinstance(robot, Robot):
@@ -317,12 +318,16 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
 
         ys, t_out, n_rhs, drift, loop_event = sundials(robot, plant, setup, controller, ref, u,
                                                        y0, t, method, rtol, atol)
-        events = [Event(specs[k].name, float(tt), False) for k, tt in
-                  _output_events(g_fn=lambda yy, tt: control_values(robot, setup, tt, yy)[2],
-                                 ys=ys, t=t_out)]
+        found = _output_events(control_values(robot, setup, t_out, ys)[2], t_out)
+        stops = [tt for k, tt in found if specs[k].stop]
+        if stops:  # the run ends at the last sample before the first stop event
+            keep = t_out < min(stops)
+            ys, t_out = ys[keep], t_out[keep]
+        events = [Event(specs[k].name, float(tt), bool(stops) and specs[k].stop
+                        and tt == min(stops)) for k, tt in found if not stops or tt <= min(stops)]
     elif method == "dopri5":
         ys, t_out, n_rhs, drift, loop_event = _dopri5(robot, plant, setup, y0, t, rtol, atol,
-                                                      max_steps, project)
+                                                      max_steps)
         events = [Event(specs[int(k)].name, float(tt), bool(specs[int(k)].stop))
                   for k, tt in zip(setup.log_ev[:setup.c.n_log], setup.log_t[:setup.c.n_log])]
         if setup.c.stopped:  # only the first stop event stops; later ones never happened
@@ -376,60 +381,74 @@ def _torque_input(torque, na: int, t0: float, t1: float):
     return as_vector("torque", torque, na)
 
 
-def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps, project):
+def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps):
+    """The compiled loop: one C call (a tree) or one per segment (a closed chain)."""
+    from ..dynamics.integrate import _DOPRI5_ERRORS
+
     run, _ = _functions()
     n, m = plant.n, plant.n_constraints
-    kind = 1 if m else 0
     fn = plant.library.address("constrained_terms" if m else "forward_dynamics")
     stats = np.zeros(4, dtype=np.int64)
     t_fail = ctypes.c_double()
-    d = 2 * n + 2
-    rows, times, n_rhs, drift = [y0], [t[0]], 0, 0.0
+    count = [0]
+
+    def segment(tt: np.ndarray, y: np.ndarray):
+        out = np.empty((len(tt), 2 * n + 2))
+        rc = run(1 if m else 0, n, m, len(setup.act), setup.act.ctypes.data, 0,
+                 plant.p.ctypes.data, fn, ctypes.byref(setup.c), float(tt[0]),
+                 _array(y).ctypes.data, len(tt), tt.ctypes.data, rtol, atol, max_steps,
+                 out.ctypes.data, stats.ctypes.data, ctypes.byref(t_fail))
+        count[0] += int(stats[0])
+        if rc and not (m and rc in (1, 2)):
+            raise SimulationError(f"{robot.name}: integration failed at t = "
+                                  f"{t_fail.value:.6g} s: {_DOPRI5_ERRORS.get(rc, rc)}")
+        # a closed chain's KKT matrix singular: the loops cannot be closed there (an event)
+        return out, int(stats[3]), (t_fail.value if rc else 0)
+
+    return run_segments(plant, setup, y0, t, segment, count)
+
+
+def run_segments(plant, setup, y0, t, segment, count):
+    """Drive ``segment(times, y) -> (states, rows filled, failure time or 0)`` over the run:
+    once for a tree; for a closed chain every SEGMENT_S, re-projected onto the loops, with
+    the loops' failure (a singular constraint matrix, drift beyond DRIFT_LIMIT_M) an event.
+    Returns states, their times, RHS evaluations, the largest |Phi| and the loop event."""
+    from ..dynamics.forward_closed import project
+
+    n, m = plant.n, plant.n_constraints
+    rows, times, drift = [y0], [t[0]], 0.0
     k, y = 0, y0.copy()
     while k < len(t) - 1:
         end = len(t) - 1 if not m else min(max(int(np.searchsorted(
             t, t[k] + SEGMENT_S, side="right")) - 1, k + 1), len(t) - 1)
         tt = _array(t[k:end + 1])
-        out = np.empty((len(tt), d))
-        rc = run(kind, n, m, len(setup.act), setup.act.ctypes.data, 0, plant.p.ctypes.data,
-                 fn, ctypes.byref(setup.c), float(tt[0]), _array(y).ctypes.data, len(tt),
-                 tt.ctypes.data, rtol, atol, max_steps, out.ctypes.data, stats.ctypes.data,
-                 ctypes.byref(t_fail))
-        n_rhs += int(stats[0])
-        got = int(stats[3])
-        if rc:
-            if m and rc in (1, 2):  # a singular KKT matrix: the loops cannot be closed here
-                rows += list(out[1:got])
-                times += list(tt[1:got])
-                return (np.array(rows), np.array(times), n_rhs, drift,
-                        (t_fail.value, "singular constraint matrix"))
-            from ..dynamics.integrate import _DOPRI5_ERRORS
-
-            raise SimulationError(f"{robot.name}: integration failed at t = "
-                                  f"{t_fail.value:.6g} s: {_DOPRI5_ERRORS.get(rc, rc)}")
+        out, got, failed_at = segment(tt, y)
         rows += list(out[1:got])
         times += list(tt[1:got])
+        if failed_at:
+            return (np.array(rows), np.array(times), count[0], drift,
+                    (failed_at, "singular constraint matrix"))
         if setup.c.stopped:
             rows.append(setup.y_stop.copy())
             times.append(setup.c.t_stop)
             break
         if m:
-            seg = np.max(np.abs(plant.constraint(out[1:, :n]))) if got > 1 else 0.0
-            drift = max(drift, float(seg))
+            seg = float(np.max(np.abs(plant.constraint(out[1:got, :n])))) if got > 1 else 0.0
+            drift = max(drift, seg)
             if not seg <= DRIFT_LIMIT_M:
-                return (np.array(rows), np.array(times), n_rhs, drift,
+                return (np.array(rows), np.array(times), count[0], drift,
                         (float(tt[0]), (f"|Phi| reached {seg:.3g} m by t = {tt[-1]:.6g} s, "
                                         f"above {DRIFT_LIMIT_M:g} m")))
             qp, qdp = project(plant, out[-1, :n], out[-1, n:2 * n])
             y = np.concatenate([qp, qdp, out[-1, 2 * n:]])
         k = end
-    return np.array(rows), np.array(times), n_rhs, drift, None
+    return np.array(rows), np.array(times), count[0], drift, None
 
 
-def _output_events(g_fn, ys, t):
-    """Events seen on the output grid (the SUNDIALS route): the first sample at which each
-    event function is no longer positive, its time found by linear interpolation."""
-    g = g_fn(ys, t)
+def _output_events(g: np.ndarray, t: np.ndarray) -> list[tuple[int, float]]:
+    """Events seen on the output grid (the SUNDIALS route), from the event values ``g``
+    (samples, events): the first sample at which each is no longer positive, its time found
+    by linear interpolation."""
     out = []
     for k in range(g.shape[1]):
         bad = g[:, k] <= 0

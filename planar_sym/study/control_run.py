@@ -22,6 +22,7 @@ from ..errors import InputError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from . import spec as specs
+from .columns import coordinates_note, task_columns
 from .motion import check_width, coordinate_scale, joint_motion
 from .parameters import to_si
 from .result import Result, coordinate_column
@@ -167,8 +168,6 @@ def _torque(st: specs.Study, robot: Robot, t_end: float):
 
 def _result(st: specs.Study, robot: Robot, plant: Robot, run: ControlledRun,
             ref_full: Signal) -> Result:
-    from .run import _coordinates_note, task_columns
-
     t = run.t_s
     units = robot.coordinate_units
     cols = {"t_s": t}
@@ -206,7 +205,7 @@ def _result(st: specs.Study, robot: Robot, plant: Robot, run: ControlledRun,
     law = {"pd": "PD + gravity compensation", "computed_torque": "computed torque",
            "none": "open loop"}[ctl.kind]
     err = np.max(np.abs(run.error), axis=0)
-    note = (f"{_coordinates_note(robot)}; {law}{gains}; max |error| "
+    note = (f"{coordinates_note(robot)}; {law}{gains}; max |error| "
             + ", ".join(f"e{i + 1} {v:.3g} {units[i]}" for i, v in zip(robot.actuated, err))
             + f"; energy balance residual {run.balance_residual:.2e} (relative); {run.method} "
               f"rtol {run.rtol:g}")

@@ -25,6 +25,8 @@ from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from . import spec as specs
 from .builtin import find as find_builtin
+from .columns import coordinates_note as _coordinates_note
+from .columns import task_columns
 from .motion import check_width, initial_state, joint_motion
 from .parameters import to_si
 from .result import Result, coordinate_column
@@ -188,21 +190,6 @@ def _torque(st: specs.Study, robot: Robot):
     def tau(t: float) -> np.ndarray:
         return np.array([np.interp(t, times, values[:, k]) for k in range(width)])
     return tau
-
-
-def task_columns(robot: Robot, x_si: np.ndarray) -> dict[str, np.ndarray]:
-    """Task coordinates as the seed writes them: x, y in mm, phi in rad."""
-    x_si = np.asarray(x_si).reshape(len(x_si), -1)
-    return {(f"{n}_rad" if n == "phi" else f"{n}_mm"): (x_si[:, i] if n == "phi"
-                                                        else x_si[:, i] * 1e3)
-            for i, n in enumerate(robot.task_names)}
-
-
-def _coordinates_note(robot: Robot) -> str:
-    marks = [f"q{i + 1} = {name}{' (prismatic, m)' if u == 'm' else ''}"
-             f"{' (actuated)' if i in robot.actuated else ''}"
-             for i, (name, u) in enumerate(zip(robot.coordinates, robot.coordinate_units))]
-    return "coordinates: " + ", ".join(marks)
 
 
 def motion(study: str | Path | specs.Study, frames: int) -> tuple[Robot, np.ndarray, np.ndarray]:
