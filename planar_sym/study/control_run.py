@@ -49,7 +49,7 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None) -> Re
     limits = _limits(st, robot)
     run = simulate_controlled(
         robot, ctl, (0.0, t_end), reference=ref, plant=plant, q0=q0, qd0=qd0,
-        torque=_torque(st, robot, t_end), t_eval=t, joint_limits=limits,
+        torque=torque_input(st, robot, st.control.torque, t_end, "control.torque"), t_eval=t, joint_limits=limits,
         on_joint_limit=st.events.on_joint_limit, on_actuator_limit=st.events.on_actuator_limit,
         method=cs.method, rtol=cs.rtol, atol=cs.atol)
     return _result(st, robot, plant, run, ref_full)
@@ -139,20 +139,20 @@ def _limits(st: specs.Study, robot: Robot) -> dict:
     return out
 
 
-def _torque(st: specs.Study, robot: Robot, t_end: float):
-    """The input torques: None, a constant, or a Signal (a table as stated, a profile)."""
-    tq = st.control.torque
+def torque_input(st: specs.Study, robot: Robot, tq, t_end: float, fld: str):
+    """Input torques on the actuated joints (N*m or N) from a study's TorqueInput: None, a
+    constant vector, or a Signal (a table read as stated, a profile then held)."""
     na = len(robot.actuated)
     if tq is None:
         return None
     if tq.constant is not None:
-        check_width(st, "control.torque", tq.constant, na, "actuated joint")
+        check_width(st, fld, tq.constant, na, "actuated joint")
         return np.array(tq.constant)
     if tq.profile is not None:
         from ..motion.profiles_by_name import make_profile
 
         for key, v in (("start", tq.start), ("end", tq.end)):
-            check_width(st, f"control.torque.{key}", v, na, "actuated joint")
+            check_width(st, f"{fld}.{key}", v, na, "actuated joint")
         knots = np.linspace(0.0, tq.duration_s, 3)
         tr = make_profile(tq.profile, t_s=knots, start=tq.start, end=tq.end,
                           duration_s=tq.duration_s)

@@ -118,7 +118,7 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
     atol = c.number(tbl, "atol", "control.atol", positive=True, default=1e-12)
     saturate = c.flag(tbl, "saturate", "control.saturate", True)
     plant = parameters(c.table(tbl, "plant"), "control.plant")
-    torque = _torque(c, tbl.get("torque"))
+    torque = parse_torque(c, tbl.get("torque"), "control.torque")
     if law == "none" and torque is None:
         c.err("control.torque", "law = \"none\" (open loop) needs input torques")
     if None in (law, method, rtol, atol, damping):
@@ -127,8 +127,7 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
                        torque, method, rtol, atol, plant)
 
 
-def _torque(c: Checker, raw) -> TorqueInput | None:
-    fld = "control.torque"
+def parse_torque(c: Checker, raw, fld: str) -> TorqueInput | None:
     if raw is None or raw == "zero":
         return None
     if isinstance(raw, list):

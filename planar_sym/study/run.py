@@ -27,7 +27,7 @@ from . import spec as specs
 from .builtin import find as find_builtin
 from .columns import coordinates_note as _coordinates_note
 from .columns import task_columns
-from .motion import check_width, initial_state, joint_motion
+from .motion import initial_state, joint_motion
 from .parameters import to_si
 from .result import Result, coordinate_column
 from .sizing import size
@@ -141,55 +141,82 @@ def load_columns(loads: JointLoads) -> dict[str, np.ndarray]:
 
 
 def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
-    from ..dynamics.forward import simulate
-
     s = st.simulation
     t = np.linspace(0.0, s.duration_s, samples or s.samples)
     q0, qd0 = initial_state(st, robot)
-    sim = simulate(robot, q0, qd0, (0.0, s.duration_s), t_eval=t, torque=_torque(st, robot),
-                   method=s.method, rtol=s.rtol, atol=s.atol)
+    sim = _simulate(st, robot, q0, qd0, t)
     cols = {"t_s": t}
     if robot.task_names:
         cols.update(task_columns(robot, robot.task(sim.q)[0].reshape(len(t), -1)))
     for kind, values in (("q", sim.q), ("qd", sim.qd)):
         for i in range(robot.n):
             cols[coordinate_column(kind, i, robot.coordinate_units[i])] = values[:, i]
+    if s.torque is not None:
+        for k, i in enumerate(robot.actuated):
+            cols[coordinate_column("tau", i, robot.coordinate_units[i])] = sim.tau[:, k]
     cols["energy_j"] = sim.energy_j
     drift = ("energy change (the actuators' friction dissipates it)" if robot.has_friction
              else "energy drift")
+    if s.torque is not None:
+        drift = "energy change (the input torques do work)"
     note = (f"{_coordinates_note(robot)}; {drift} {sim.energy_drift:.2e} (relative), "
             f"{sim.method} rtol {sim.rtol:g}")
+    if s.torque is not None:
+        note += "; input torques " + _input_note(s.torque)
     split = {}
-    if not robot.is_closed_chain:
+    if not robot.is_closed_chain and s.torque is None:
         # tau = 0 in a free swing: the split shows how M qdd, C qd and g balance each other
-        qdd = robot.forward_dynamics(sim.q, sim.qd, sim.tau)
+        qdd = robot.forward_dynamics(sim.q, sim.qd, np.zeros_like(sim.q))
         split = torque_split(robot, sim.q, sim.qd, qdd)
     return Result(st.name, st.title, cols, kind="angles", note=note, split=split,
                   robot=robot.name, actuated=robot.actuated)
 
 
-def _torque(st: specs.Study, robot: Robot):
-    """None (zero), a constant vector (N*m), or a function of time from a CSV table (linear)."""
-    tq = st.simulation.torque
-    width = len(robot.actuated) if robot.is_closed_chain else robot.n
-    if tq is None:
-        return None
-    if isinstance(tq, tuple):
-        check_width(st, "simulation.torque", tq, width, "actuated joint")
-        return np.array(tq)
-    from ..motion.tables import read_table
+def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
+    """A forward run: the C integrator with constant torques; the compiled loop (controller
+    "none") for a table or a profile, and for SUNDIALS; a SciPy method with the table
+    evaluated in Python. ``tau`` comes back on the actuated joints."""
+    from ..control import controller, simulate_controlled
+    from ..dynamics.forward import simulate
+    from .control_run import torque_input
 
-    names = [coordinate_column("tau", i, robot.coordinate_units[i])
-             for i in (robot.actuated if robot.is_closed_chain else range(robot.n))]
-    times, values = read_table(tq, names)
-    lo, hi = times[0], times[-1]
-    if lo > 0.0 or hi < st.simulation.duration_s:
-        raise InputError(f"{tq}: the torque table covers {lo:g} to {hi:g} s, but the "
-                         f"simulation runs from 0 to {st.simulation.duration_s:g} s")
+    s = st.simulation
+    act = list(robot.actuated)
+    u = torque_input(st, robot, s.torque, s.duration_s, "simulation.torque")
+    compiled_input = u is not None and not isinstance(u, np.ndarray)
+    if s.method in ("cvodes", "idas") or (s.method == "dopri5" and compiled_input):
+        run = simulate_controlled(robot, controller("none", width=len(act)),
+                                  (0.0, s.duration_s),
+                                  torque=np.zeros(len(act)) if u is None else u, q0=q0,
+                                  qd0=qd0, t_eval=t, method=s.method, rtol=s.rtol, atol=s.atol)
+        return _Run(run.q, run.qd, run.tau, run.kinetic_j, run.potential_j, s.method, s.rtol)
+    if compiled_input:
+        sig = u
 
-    def tau(t: float) -> np.ndarray:
-        return np.array([np.interp(t, times, values[:, k]) for k in range(width)])
-    return tau
+        def u(tt: float) -> np.ndarray:  # SciPy calls it per step, in Python
+            return sig(tt)[0]
+    sim = simulate(robot, q0, qd0, (0.0, s.duration_s), t_eval=t, torque=u,
+                   method=s.method, rtol=s.rtol, atol=s.atol)
+    tau = sim.tau[:, act] if sim.tau.shape[1] == robot.n else sim.tau
+    return _Run(sim.q, sim.qd, tau, sim.kinetic_j, sim.potential_j, sim.method, sim.rtol)
+
+
+class _Run:
+    """What a forward result needs of a simulation, whichever route ran it."""
+
+    def __init__(self, q, qd, tau, kinetic_j, potential_j, method, rtol):
+        self.q, self.qd, self.tau, self.method, self.rtol = q, qd, tau, method, rtol
+        self.energy_j = kinetic_j + potential_j
+        scale = max(abs(self.energy_j[0]), float(np.max(np.abs(kinetic_j))), 1e-300)
+        self.energy_drift = float(np.max(np.abs(self.energy_j - self.energy_j[0])) / scale)
+
+
+def _input_note(tq) -> str:
+    if tq.constant is not None:
+        return "constant"
+    if tq.profile is not None:
+        return f"{tq.profile} profile over {tq.duration_s:g} s, then held"
+    return f"from {tq.file.name}, {tq.interpolation} between rows"
 
 
 def motion(study: str | Path | specs.Study, frames: int) -> tuple[Robot, np.ndarray, np.ndarray]:

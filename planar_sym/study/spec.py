@@ -27,7 +27,9 @@
     [simulation]                   # kind = "forward"
     q0 = [-60.0, 0.0]              # every coordinate
     duration = 1.0
-    torque = "zero"                # "zero", a constant [...] (N*m), or a CSV file of t_s, tau<k>_n_m
+    torque = "zero"                # "zero", a constant [...] (N*m), a CSV of t_s, tau<k>_n_m
+                                   # { file = "t.csv", interpolation = "linear" }, or a profile
+                                   # { profile = "cubic", start = [...], end = [...], duration }
 
     [outputs]
     csv = true                     # and plot, split, animation ("gif" / "mp4"), frames
@@ -45,11 +47,18 @@ from pathlib import Path
 
 from ..model.units import factor
 from .checks import Checker, StudyError, finite
-from .control_spec import ControlSpec, EventsSpec, parse_control, parse_events
+from .control_spec import (
+    ControlSpec,
+    EventsSpec,
+    TorqueInput,
+    parse_control,
+    parse_events,
+    parse_torque,
+)
 
 PROFILES = ("cubic", "quintic", "trapezoid", "via", "table")
 SOLVERS = ("auto", "seed", "newton")
-METHODS = ("dopri5", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+METHODS = ("dopri5", "cvodes", "idas", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 ANIMATIONS = ("gif", "mp4")
 #: bounds that keep a typo from asking for a huge or empty run
 MAX_SAMPLES = 1_000_000
@@ -93,7 +102,7 @@ class Simulation:
     duration_s: float
     qd0: tuple[float, ...] | None = None
     samples: int = 1001
-    torque: None | tuple[float, ...] | Path = None
+    torque: TorqueInput | None = None
     method: str = "dopri5"
     rtol: float = 1e-11
     atol: float = 1e-12
@@ -305,15 +314,7 @@ class _Checker(Checker):
         method = self.choice(s, "method", "simulation.method", METHODS, "dopri5")
         rtol = self.number(s, "rtol", "simulation.rtol", positive=True, default=1e-11)
         atol = self.number(s, "atol", "simulation.atol", positive=True, default=1e-12)
-        raw = s.get("torque", "zero")
-        torque: None | tuple | Path = None
-        if isinstance(raw, list):
-            torque = self.vector(s, "torque", "simulation.torque")
-        elif isinstance(raw, dict) and set(raw) == {"file"}:
-            torque = self.file(raw["file"], "simulation.torque.file")
-        elif raw != "zero":
-            self.err("simulation.torque", f"must be \"zero\", a list of constant torques (N*m) "
-                                          f"or {{ file = \"torques.csv\" }} (got {raw!r})")
+        torque = parse_torque(self, s.get("torque"), "simulation.torque")
         if q0 is not None and qd0 is not None and len(qd0) != len(q0):
             self.err("simulation.qd0", f"must have {len(q0)} values like simulation.q0 "
                                        f"(got {len(qd0)})")
