@@ -28,6 +28,9 @@ SEED_STUDIES = ("serial_2dof_free_swing", "serial_2dof_joint_move", "serial_2dof
 #: tests/test_prismatic_robots.py
 PRISMATIC_STUDIES = ("slider_crank_turn", "slider_crank_slider_driven_stroke",
                      "serial_rpr_tool_move", "parallel_3rpr_move_x")
+#: the built-in control studies (issue 12), checked in tests/test_control.py
+CONTROL_STUDIES = ("serial_2dof_cartesian_track", "serial_2dof_cartesian_track_pd",
+                   "five_bar_type1_track_x")
 
 
 def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
@@ -47,7 +50,8 @@ def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
 
 
 def test_the_built_in_studies_are_the_seed_scenarios():
-    assert tuple(builtin.names()) == tuple(sorted(SEED_STUDIES + PRISMATIC_STUDIES))
+    assert tuple(builtin.names()) == tuple(sorted(SEED_STUDIES + PRISMATIC_STUDIES
+                                                       + CONTROL_STUDIES))
 
 
 @pytest.mark.parametrize("name", SEED_STUDIES)

@@ -68,17 +68,18 @@ def animate_study(st, path: Path, frames: int = 60, fps: float = 20.0, dpi: int 
     """The study's mechanism moving, written to ``path`` (.gif or .mp4)."""
     from ..model.description import load as load_description
     from ..outputs.animation import check_frames, write_animation, writer_for
-    from ..study.run import motion
+    from ..study.run import motion_and_reference
 
     writer_for(Path(path), fps)  # a bad request fails before any work
     check_frames(frames, dpi)
-    robot, t, q = motion(st, frames)
+    robot, t, q, q_ref = motion_and_reference(st, frames)
     desc_file = robot.description_file
     if desc_file is None:
         raise InputError(f"{robot.name}: no description at hand to draw it (its generated "
                          "folder has no description.toml)")
     return write_animation(robot, load_description(desc_file), t, q, path,
-                           f"{st.name}: {st.title}", fps=fps, dpi=dpi, figsize=figsize)
+                           f"{st.name}: {st.title}", fps=fps, dpi=dpi, figsize=figsize,
+                           q_reference=q_ref)
 
 
 def report(done, name: str, quiet: bool) -> None:
@@ -88,6 +89,8 @@ def report(done, name: str, quiet: bool) -> None:
     for s in result.sizing:  # a limit exceeded is never silent, not even with --quiet
         for sentence in s.exceeded:
             print(f"{name}: warning: actuator limit exceeded: {sentence}", file=sys.stderr)
+    for event in result.events:  # nor is an event of a controlled run
+        print(f"{name}: event: {event}", file=sys.stderr)
     if quiet:
         return
     units = {c.split("_")[0]: ("N" if c.endswith("_n") else "N*m") for c in result.torques()}

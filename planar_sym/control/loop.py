@@ -15,19 +15,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..model.description import COULOMB_SMOOTHING
 from ..model.robot import Robot, as_vector
 from ..motion.profiles import JointTrajectory
 from .events import Event, EventSpec, actuator_events, joint_limit_events
 from .laws import Controller
+from .segments import friction, run_segments
 from .signals import Signal, from_motion
 
 _P = ctypes.c_void_p
 MAX_EVENTS_LOGGED = 256
-#: closed chains: the run is re-projected onto the loops this often (s), and a segment whose
-#: loops open by more than DRIFT_LIMIT_M stops the run as an event
-SEGMENT_S = 0.1
-DRIFT_LIMIT_M = 1e-6
 LOOP_EVENT = "the loops could not stay assembled"
 
 
@@ -124,7 +120,7 @@ class _Setup:
         c.kd = self._ptr(ctl.kd or np.zeros(na))
         c.p_nom = self._ptr(robot.p)
         c.lo, c.hi = self._ptr(-bound), self._ptr(bound)
-        fv, fc, vs = _friction(plant)
+        fv, fc, vs = friction(plant)
         c.fv, c.fc, c.vs = self._ptr(fv), self._ptr(fc), self._ptr(vs)
         if isinstance(torque, Signal):
             c.input = self._signal(torque)
@@ -164,18 +160,6 @@ class _Setup:
         out.n_knots, out.n_ch, out.deg = len(s.knots_s), s.channels, s.degree
         out.T, out.c = self._ptr(s.knots_s), self._ptr(s.coefficients.ravel())
         return out
-
-
-def _friction(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per coordinate: viscous b, Coulomb c and smoothing v_s of D = b qd + c tanh(qd / v_s)."""
-    params = robot.parameters
-    fv, fc, vs = np.zeros(robot.n), np.zeros(robot.n), np.ones(robot.n)
-    for act in robot.actuators:
-        i, j = act["coordinate"], act["joint"]
-        fv[i] = params.get(f"fv_{j}", 0.0)
-        fc[i] = params.get(f"fc_{j}", 0.0)
-        vs[i] = params.get(f"vs_{j}", COULOMB_SMOOTHING)
-    return fv, fc, vs
 
 
 def _functions():
@@ -339,6 +323,8 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     if loop_event is not None:
         events.append(Event(LOOP_EVENT + f" ({loop_event[1]})", loop_event[0], True))
     q, qd = ys[:, :n], ys[:, n:2 * n]
+    if robot.is_closed_chain:
+        events += assembly_changes(plant, t_out, q)
     cmd, app, _ = control_values(robot, setup, t_out, ys)
     kin, pot = plant.energy(q, qd)
     q_ref = ref(t_out) if ref is not None else q[:, act]
@@ -346,6 +332,23 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     return ControlledRun(t_out, q, qd, q_ref, qd_ref, cmd, app, kin, pot, ys[:, 2 * n],
                          ys[:, 2 * n + 1], tuple(act), controller, method, rtol, atol, n_rhs,
                          tuple(sorted(events, key=lambda e: e.time_s)), drift)
+
+
+def assembly_changes(robot: Robot, t: np.ndarray, q: np.ndarray) -> list[Event]:
+    """A closed chain that passes through a singular pose of its passive joints (det Phi_p = 0,
+    where the actuators lose control of it) may come out in another assembly mode: found as a
+    sign change of det Phi_p between output samples, reported with the two times."""
+    act, n, m = list(robot.actuated), robot.n, robot.n_constraints
+    pas = [i for i in range(n) if i not in act]
+    jac = robot.constraint_jacobian(q).reshape(len(q), m, n)
+    det = np.linalg.det(jac[:, :, pas])
+    flips = np.nonzero(np.sign(det[1:]) * np.sign(det[0]) < 0)[0]
+    if not len(flips):
+        return []
+    k = int(flips[0])
+    return [Event(f"the mechanism passed through a singular pose (det Phi_p changed sign between "
+                  f"t = {t[k]:.6g} and {t[k + 1]:.6g} s) and changed assembly mode", float(t[k + 1]),
+                  False)]
 
 
 def _reference(robot: Robot, reference, ctl: Controller) -> Signal | None:
@@ -406,43 +409,6 @@ def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps):
         return out, int(stats[3]), (t_fail.value if rc else 0)
 
     return run_segments(plant, setup, y0, t, segment, count)
-
-
-def run_segments(plant, setup, y0, t, segment, count):
-    """Drive ``segment(times, y) -> (states, rows filled, failure time or 0)`` over the run:
-    once for a tree; for a closed chain every SEGMENT_S, re-projected onto the loops, with
-    the loops' failure (a singular constraint matrix, drift beyond DRIFT_LIMIT_M) an event.
-    Returns states, their times, RHS evaluations, the largest |Phi| and the loop event."""
-    from ..dynamics.forward_closed import project
-
-    n, m = plant.n, plant.n_constraints
-    rows, times, drift = [y0], [t[0]], 0.0
-    k, y = 0, y0.copy()
-    while k < len(t) - 1:
-        end = len(t) - 1 if not m else min(max(int(np.searchsorted(
-            t, t[k] + SEGMENT_S, side="right")) - 1, k + 1), len(t) - 1)
-        tt = _array(t[k:end + 1])
-        out, got, failed_at = segment(tt, y)
-        rows += list(out[1:got])
-        times += list(tt[1:got])
-        if failed_at:
-            return (np.array(rows), np.array(times), count[0], drift,
-                    (failed_at, "singular constraint matrix"))
-        if setup.c.stopped:
-            rows.append(setup.y_stop.copy())
-            times.append(setup.c.t_stop)
-            break
-        if m:
-            seg = float(np.max(np.abs(plant.constraint(out[1:got, :n])))) if got > 1 else 0.0
-            drift = max(drift, seg)
-            if not seg <= DRIFT_LIMIT_M:
-                return (np.array(rows), np.array(times), count[0], drift,
-                        (float(tt[0]), (f"|Phi| reached {seg:.3g} m by t = {tt[-1]:.6g} s, "
-                                        f"above {DRIFT_LIMIT_M:g} m")))
-            qp, qdp = project(plant, out[-1, :n], out[-1, n:2 * n])
-            y = np.concatenate([qp, qdp, out[-1, 2 * n:]])
-        k = end
-    return np.array(rows), np.array(times), count[0], drift, None
 
 
 def _output_events(g: np.ndarray, t: np.ndarray) -> list[tuple[int, float]]:

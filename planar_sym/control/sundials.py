@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import SimulationError
 from ..model.robot import Robot
 from .laws import Controller
+from .segments import friction, run_segments
 from .signals import Signal
 
 
@@ -109,10 +110,8 @@ def integrate(robot: Robot, plant: Robot, setup, ctl: Controller, ref, u, y0: np
     """States (len, 2n + 2) at ``t_out`` on CVODES or IDAS; as ``loop._dopri5`` returns."""
     import casadi as ca
 
-    from .loop import _friction, run_segments
-
     t, x, _, tau_full, work, loss, ext, p = closed_loop_rhs(
-        robot, plant, ctl, ref, u, setup.bound, _friction(plant))
+        robot, plant, ctl, ref, u, setup.bound, friction(plant))
     n, m = plant.n, plant.n_constraints
     q, qd = x[:n], x[n:2 * n]
     opts = {"abstol": atol, "reltol": rtol, "max_num_steps": 1_000_000}

@@ -146,3 +146,20 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     taus = np.array([tau_of(tt) for tt in t])
     return Simulation(t, qa, qda, taus, kin, pot, method, rtol, atol, count[0], drift,
                       correction)
+
+
+def kkt_accelerations(robot: Robot, q, qd, tau_act) -> np.ndarray:
+    """Every coordinate's acceleration (N, n) of a closed chain at N states under the actuated
+    torques ``tau_act`` (N, actuated): the index-1 KKT system of ``simulate_closed``, batched."""
+    q, qd, tau_act = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (q, qd, tau_act))
+    n_s, n, m = len(q), robot.n, robot.n_constraints
+    kkt = np.zeros((n_s, n + m, n + m))
+    jac = robot.constraint_jacobian(q).reshape(n_s, m, n)
+    kkt[:, :n, :n] = robot.mass_matrix(q).reshape(n_s, n, n)
+    kkt[:, :n, n:] = -jac.transpose(0, 2, 1)
+    kkt[:, n:, :n] = jac
+    rhs = np.zeros((n_s, n + m))
+    rhs[:, :n] = -robot.bias(q, qd).reshape(n_s, n)
+    rhs[:, list(robot.actuated)] += tau_act
+    rhs[:, n:] = robot.constraint_bias(q, qd).reshape(n_s, m)
+    return np.linalg.solve(kkt, rhs[..., None])[..., :n, 0]

@@ -43,7 +43,8 @@ def check_frames(frames: int, dpi: int) -> None:
 
 def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, path: Path,
                     title: str, fps: float = 20.0, dpi: int = 80,
-                    figsize: tuple[float, float] = (5.6, 4.6)) -> Path:
+                    figsize: tuple[float, float] = (5.6, 4.6),
+                    q_reference: np.ndarray | None = None) -> Path:
     """Animate ``robot`` through the joint motion ``q`` into ``path``, whole or not at all.
 
     Parameters
@@ -64,6 +65,8 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
         Playback frames per second.
     dpi : int
         Pixels per inch; the frame is ``figsize * dpi`` pixels.
+    q_reference : ndarray, shape (frames, n), optional
+        A second motion drawn faint behind the first (a controller's reference).
     """
     from matplotlib.animation import FuncAnimation
 
@@ -76,7 +79,17 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
     geo = geometry(desc, robot.body_names, robot.frames(q))
     fig = new_figure(figsize)
     ax = fig.add_subplot()
+    ghost = None
+    if q_reference is not None:
+        geo_ref = geometry(desc, robot.body_names, robot.frames(q_reference))
+        before = set(ax.get_children())
+        ghost = Scene(ax, desc, geo_ref, labels=False)
+        for artist in set(ax.get_children()) - before:
+            artist.set_alpha(0.25)
+        ax.plot([], [], color="grey", alpha=0.4, lw=4, label="reference")
     scene = Scene(ax, desc, geo, labels=False)
+    if ghost is not None:
+        ax.legend(loc="upper right", fontsize=7)
     tip = geo.points[desc.task_point] * MM if desc.task_point in geo.points else None
     if tip is not None:
         ax.plot(tip[:, 0], tip[:, 1], ":", color="crimson", lw=0.8, alpha=0.6)  # the whole path
@@ -91,7 +104,7 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
         if tip is not None:
             trace.set_data(tip[:k + 1, 0], tip[:k + 1, 1])
         stamp.set_text(f"t = {t[k]:.{decimals}f} s")
-        return [*scene.show(k), trace, stamp]
+        return [*(ghost.show(k) if ghost is not None else ()), *scene.show(k), trace, stamp]
 
     anim = FuncAnimation(fig, update, frames=len(t), interval=1000.0 / fps, blit=False)
     with atomic_files([path]) as (tmp,):

@@ -71,6 +71,8 @@ def figure(result: Result):
     Below the torques of an inverse-dynamics result, one more axis: every joint's bearing load
     ``|F|`` (N), the ``jload_<joint>_n`` columns.
     """
+    if result.kind == "control":
+        return control_figure(result)
     if result.kind == "angles":
         series, label, scale = result.angles(), "joint angle {} (deg)", 180 / np.pi
     else:
@@ -93,6 +95,51 @@ def figure(result: Result):
         ax.set_ylabel("joint load |F| (N)")
         ax.grid(True, alpha=0.4)
         ax.legend(fontsize=7, ncol=min(len(loads), 5), loc="best")
+    _finish(fig, axes, result, result.summary)
+    return fig
+
+
+def control_figure(result: Result):
+    """A control study: per actuated joint its reference (dashed) and actual motion (deg, or
+    mm for a slider); the tracking errors; the commanded (dashed) and applied torques (N*m or
+    N); and, for a robot with a tool point, the tool's distance from its reference (mm)."""
+    cols, t = result.columns, result.columns["t_s"]
+    act = list(result.actuated)
+    task = "e_task_mm" in cols
+    fig, axes = _axes(len(act) + 2 + task)
+    for ax, i in zip(axes, act):
+        slider = f"q{i + 1}_m" in cols
+        unit, scale = ("m", 1e3) if slider else ("rad", 180 / np.pi)
+        ax.plot(t, cols[f"q{i + 1}_ref_{unit}"] * scale, "--", color="grey", lw=1.6,
+                label="reference")
+        ax.plot(t, cols[f"q{i + 1}_{unit}"] * scale, color="tab:blue", lw=1.3, label="actual")
+        ax.set_ylabel(f"q{i + 1} ({'mm' if slider else 'deg'})")
+        ax.grid(True, alpha=0.4)
+    axes[0].legend(fontsize=7, loc="best")
+    ax = axes[len(act)]
+    for i in act:
+        slider = f"e{i + 1}_m" in cols
+        values = cols[f"e{i + 1}_m"] * 1e3 if slider else cols[f"e{i + 1}_rad"] * 180 / np.pi
+        ax.plot(t, values, lw=1.3, label=f"e{i + 1} ({'mm' if slider else 'deg'})")
+    ax.axhline(0.0, color="grey", lw=0.6)
+    ax.set_ylabel("error q_ref - q")
+    ax.legend(fontsize=7, ncol=len(act), loc="best")
+    ax.grid(True, alpha=0.4)
+    ax = axes[len(act) + 1]
+    for k, i in enumerate(act):
+        name = next(c for c in (f"tau{i + 1}_n_m", f"tau{i + 1}_n") if c in cols)
+        colour = f"C{k}"
+        ax.plot(t, cols[name.replace("tau", "tau_cmd", 1)], "--", color=colour, lw=1.0)
+        ax.plot(t, cols[name], color=colour, lw=1.4,
+                label=f"tau{i + 1} ({'N' if name.endswith('_n') else 'N*m'})")
+    ax.set_ylabel("torque: applied, commanded --")
+    ax.legend(fontsize=7, ncol=len(act), loc="best")
+    ax.grid(True, alpha=0.4)
+    if task:
+        ax = axes[-1]
+        ax.plot(t, cols["e_task_mm"], color="crimson", lw=1.3)
+        ax.set_ylabel("tool error |x_ref - x| (mm)")
+        ax.grid(True, alpha=0.4)
     _finish(fig, axes, result, result.summary)
     return fig
 

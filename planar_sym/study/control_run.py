@@ -166,6 +166,21 @@ def torque_input(st: specs.Study, robot: Robot, tq, t_end: float, fld: str):
     return sig
 
 
+def _split(robot: Robot, plant: Robot, run: ControlledRun) -> dict[str, np.ndarray]:
+    """The applied torques split into M qdd, C qd and g along the motion the plant made (its
+    accelerations from its own dynamics); {} for an arm with passive joints."""
+    from ..dynamics.forward_closed import kkt_accelerations
+    from ..dynamics.inverse import torque_split
+
+    if robot.is_closed_chain:
+        qdd = kkt_accelerations(plant, run.q, run.qd, run.tau)
+    elif len(robot.actuated) == robot.n:
+        qdd = plant.forward_dynamics(run.q, run.qd, run.tau)
+    else:
+        return {}
+    return torque_split(plant, run.q, run.qd, qdd, t=run.t_s)
+
+
 def _result(st: specs.Study, robot: Robot, plant: Robot, run: ControlledRun,
             ref_full: Signal) -> Result:
     t = run.t_s
@@ -207,6 +222,8 @@ def _result(st: specs.Study, robot: Robot, plant: Robot, run: ControlledRun,
     err = np.max(np.abs(run.error), axis=0)
     note = (f"{coordinates_note(robot)}; {law}{gains}; max |error| "
             + ", ".join(f"e{i + 1} {v:.3g} {units[i]}" for i, v in zip(robot.actuated, err))
+            + "; final |error| " + ", ".join(f"e{i + 1} {abs(v):.3g} {units[i]}" for i, v in
+                                             zip(robot.actuated, run.error[-1]))
             + f"; energy balance residual {run.balance_residual:.2e} (relative); {run.method} "
               f"rtol {run.rtol:g}")
     if st.control.plant:
@@ -216,5 +233,8 @@ def _result(st: specs.Study, robot: Robot, plant: Robot, run: ControlledRun,
     if run.events:
         note += "; EVENTS: " + "; ".join(str(e) for e in run.events)
     sizing = size(plant, t, run.qd, run.tau)
-    return Result(st.name, st.title, cols, kind="control", note=note, robot=robot.name,
-                  actuated=robot.actuated, sizing=sizing)
+    split = _split(robot, plant, run)
+    return Result(st.name, st.title, cols, kind="control", note=note, split=split,
+                  robot=robot.name,
+                  actuated=robot.actuated, sizing=sizing, reference=q_ref_full,
+                  events=run.events)

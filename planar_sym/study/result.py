@@ -30,7 +30,8 @@ class Result:
     """Columns (name -> (N,) array) of one study run; each name carries its unit (``t_s``,
     ``q1_rad``, ``qd1_rad_s``, ``tau1_n_m``, ``fx_C_n``, ``energy_j``, ...).
 
-    ``kind`` says what the main figure shows: ``"angles"`` (joint angles) or ``"torques"``.
+    ``kind`` says what the main figure shows: ``"angles"`` (joint angles), ``"torques"``, or
+    ``"control"`` (reference against actual, tracking errors, commanded and applied torques).
     ``split`` holds the actuated torques split into parts (keys of
     ``dynamics.inverse.SPLIT_PARTS``: inertial ``M qdd``, velocity ``C qd``, gravity ``g``), each
     (N, actuated) in N*m, summing to the torques; it is not written to the CSV. ``solver`` names
@@ -50,6 +51,10 @@ class Result:
     actuated: tuple[int, ...] = ()
     #: what each actuator must deliver (inverse dynamics; ``study.sizing``), () otherwise
     sizing: tuple = ()
+    #: control studies: every coordinate's reference at ``t_s`` (N, n; rad or m), to draw
+    reference: np.ndarray | None = None
+    #: control studies: what happened along the run (``control.Event``: name, time, stopped)
+    events: tuple = ()
 
     def table(self) -> np.ndarray:
         return np.column_stack(list(self.columns.values()))

@@ -228,17 +228,26 @@ def motion(study: str | Path | specs.Study, frames: int) -> tuple[Robot, np.ndar
     t : ndarray, shape (frames,)
         Time (s).
     q : ndarray, shape (frames, n)
-        Every coordinate (rad): simulated for forward dynamics, and for inverse dynamics the
-        full joint trajectory, passive joints of closed chains included.
+        Every coordinate (rad): simulated for forward dynamics and control, and for inverse
+        dynamics the full joint trajectory, passive joints of closed chains included.
     """
+    robot, t, q, _ = motion_and_reference(study, frames)
+    return robot, t, q
+
+
+def motion_and_reference(study: str | Path | specs.Study, frames: int
+                         ) -> tuple[Robot, np.ndarray, np.ndarray, np.ndarray | None]:
+    """As ``motion``, and for a control study the reference of every coordinate (frames, n),
+    else None."""
     st = load_study(study)
     if not isinstance(frames, (int, np.integer)) or frames < 2:
         raise InputError(f"the number of frames must be an integer >= 2 (got {frames})")
     robot = robot_of(st)
-    if st.kind == "forward":
-        result = _forward(st, robot, frames)
+    if st.kind in ("forward", "control"):
+        result = (_forward(st, robot, frames) if st.kind == "forward"
+                  else run(st, samples=frames))
         q = np.column_stack([result.columns[coordinate_column("q", i, robot.coordinate_units[i])]
                              for i in range(robot.n)])
-        return robot, result.columns["t_s"], q
+        return robot, result.columns["t_s"], q, result.reference
     jt, _ = joint_motion(st, robot, frames)
-    return robot, jt.t_s, jt.q
+    return robot, jt.t_s, jt.q, None
