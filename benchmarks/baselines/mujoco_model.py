@@ -1,7 +1,7 @@
 """A MuJoCo model (MJCF written here) of a description's spanning tree, for mj_inverse and RK4.
 
-Construction, generic over the description (serial arms; loop joints would need equality
-constraints and are not modelled):
+Construction, generic over the description (the spanning tree; with ``loops=True`` each
+revolute loop joint becomes a ``connect`` equality constraint between two sites, see below):
 
 * every description body becomes an MJCF body whose frame *is* that body's frame, so MuJoCo's
   ``qpos`` equals planar_sym's ``q`` (child frame angle minus parent frame angle);
@@ -15,6 +15,13 @@ constraints and are not modelled):
 * gravity ``[gx, gy, 0]``; no geoms; joint damping, armature, stiffness and friction loss are
   zero (MuJoCo's defaults), and ``opt.disableflags`` turns off contacts, constraints, limits,
   equality, friction loss and passive forces so nothing but the rigid-body dynamics acts.
+
+Closed chains (``loops=True``): a site at each loop joint's point on its parent body and one
+on its child body, and ``<equality><connect site1=... site2=.../>`` holding the two together.
+MuJoCo's equality constraints are soft (``solref``, ``solimp``: a spring-damper towards the
+constraint, solved with the other constraint forces at every evaluation), so the loop closes
+only approximately; the constraint and equality flags stay enabled in that model. A
+``connect`` holds x, y and z; in a planar model its z row is identically satisfied.
 """
 
 from __future__ import annotations
@@ -30,8 +37,31 @@ def _v(*xs: float) -> str:
     return " ".join(repr(float(x)) for x in xs)
 
 
-def mjcf(desc: Description, *, timestep: float = 1e-3) -> str:
-    """The MJCF text of the description's spanning tree."""
+def mjcf(desc: Description, *, timestep: float = 1e-3, loops: bool = False,
+         solref: tuple[float, float] | None = None,
+         solimp: tuple[float, ...] | None = None) -> str:
+    """The MJCF text of the description's spanning tree; with ``loops``, its loop joints as
+    ``connect`` equality constraints (``solref``/``solimp``: MuJoCo's softness, default
+    MuJoCo's own)."""
+    sites: dict[str, list[str]] = {}
+    equalities: list[str] = []
+    if loops:
+        for j in desc.loop_joints:
+            if j.type != "revolute":
+                raise NotImplementedError(f"{desc.name}: loop joint {j.name} is {j.type}; only "
+                                          "revolute loop joints are modelled (connect)")
+            for side, body, point in (("a", j.parent, j.parent_point),
+                                      ("b", j.child, j.child_point)):
+                x, y = desc.bodies[body].points_m[point]
+                sites.setdefault(body, []).append(
+                    f'<site name="{j.name}_{side}" pos="{_v(x, y, 0)}"/>')
+            extra = ""
+            if solref is not None:
+                extra += f' solref="{_v(*solref)}"'
+            if solimp is not None:
+                extra += f' solimp="{_v(*solimp)}"'
+            equalities.append(f'    <connect name="{j.name}" site1="{j.name}_a" '
+                              f'site2="{j.name}_b"{extra}/>')
     children: dict[str, list[str]] = {}
     bodies: dict[str, str] = {}  # body name -> opening tag with inertial and joint
     for j in desc.tree_joints:
@@ -51,7 +81,7 @@ def mjcf(desc: Description, *, timestep: float = 1e-3) -> str:
         inertial = (f'<inertial pos="{_v(*child.cg_m, 0)}" mass="{child.mass_kg!r}" '
                     f'diaginertia="{_v(izz / 2, izz / 2, izz)}"/>')
         bodies[j.child] = (f'<body name="{j.child}" pos="{_v(*pos)}" quat="{_v(*quat)}">'
-                           f"{joint}{inertial}")
+                           f"{joint}{inertial}" + "".join(sites.get(j.child, ())))
         children.setdefault(j.parent, []).append(j.child)
 
     def emit(name: str, depth: int) -> list[str]:
@@ -67,22 +97,48 @@ def mjcf(desc: Description, *, timestep: float = 1e-3) -> str:
         f'<mujoco model="{desc.name}">',
         '  <compiler angle="radian" inertiafromgeom="false"/>',
         f'  <option gravity="{_v(gx, gy, 0)}" timestep="{timestep!r}" integrator="RK4"/>',
-        "  <worldbody>", *tree, "  </worldbody>", "</mujoco>", ""])
+        "  <worldbody>", *tree, "  </worldbody>",
+        *(["  <equality>", *equalities, "  </equality>"] if equalities else []),
+        "</mujoco>", ""])
 
 
-def build(desc: Description, *, timestep: float = 1e-3):
-    """(mujoco.MjModel, mujoco.MjData) with everything but rigid-body dynamics disabled."""
+def build(desc: Description, *, timestep: float = 1e-3, loops: bool = False,
+          solref: tuple[float, float] | None = None, solimp: tuple[float, ...] | None = None):
+    """(mujoco.MjModel, mujoco.MjData) with everything but rigid-body dynamics disabled; with
+    ``loops``, the loop joints' equality constraints stay on (see ``mjcf``)."""
     import mujoco
 
-    model = mujoco.MjModel.from_xml_string(mjcf(desc, timestep=timestep))
+    closed = loops and bool(desc.loop_joints)
+    model = mujoco.MjModel.from_xml_string(mjcf(desc, timestep=timestep, loops=closed,
+                                                solref=solref, solimp=solimp))
     off = mujoco.mjtDisableBit
-    for flag in ("mjDSBL_CONTACT", "mjDSBL_CONSTRAINT", "mjDSBL_LIMIT", "mjDSBL_EQUALITY",
-                 "mjDSBL_FRICTIONLOSS", "mjDSBL_PASSIVE", "mjDSBL_SPRING", "mjDSBL_DAMPER"):
+    flags = ["mjDSBL_CONTACT", "mjDSBL_LIMIT", "mjDSBL_FRICTIONLOSS", "mjDSBL_PASSIVE",
+             "mjDSBL_SPRING", "mjDSBL_DAMPER"]
+    if not closed:
+        flags += ["mjDSBL_CONSTRAINT", "mjDSBL_EQUALITY"]
+    for flag in flags:
         if hasattr(off, flag):  # PASSIVE was split into SPRING and DAMPER in MuJoCo 3.x
             model.opt.disableflags |= int(getattr(off, flag))
     assert model.nq == model.nv == len(desc.coordinates)
+    # qpos follows the description's coordinates (depth-first order of the tree joints)
+    names = [model.joint(k).name for k in range(model.njnt)]
+    assert names == [j.name for j in desc.tree_joints if j.type != "weld"] or \
+        len(names) == len(desc.coordinates), names
     assert not model.dof_damping.any() and not model.dof_armature.any()
+    assert model.neq == (len(desc.loop_joints) if closed else 0)
     return model, mujoco.MjData(model)
+
+
+def full_mass_matrix(model, data, out: np.ndarray) -> np.ndarray:
+    """MuJoCo's dense mass matrix into ``out`` (n, n), after ``mj_forward`` (or a stage of
+    it): ``mj_fullM`` takes (m, d, dst) since MuJoCo 3.3, (m, dst, d.qM) before."""
+    import mujoco
+
+    try:
+        mujoco.mj_fullM(model, data, out)
+    except TypeError:
+        mujoco.mj_fullM(model, out, data.qM)
+    return out
 
 
 def inverse_loop(model, data, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:

@@ -292,11 +292,16 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     setup = _Setup(robot, plant, controller, ref, u, specs, bound)
     y0 = np.concatenate([q0, qd0, [0.0, 0.0]])
     _, _, g0 = control_values(robot, setup, np.array([t0]), y0[None])
+    at_start = []
     for k, s in enumerate(specs):
-        if not g0[0, k] > 0:
+        if g0[0, k] > 0:
+            continue
+        if s.stop:  # a run that would stop before it starts is a mistake in its input
             raise InputError(f"an event fires at t = {t0:g} s, before the run starts: {s.name}"
                              f" (give a start inside the limits, or a reference that starts "
                              "there)")
+        setup.armed[k] = 0  # already past it: logged once, fires again after it recovers
+        at_start.append(Event(s.name, t0, False))
     if method in ("cvodes", "idas"):
         from .sundials import integrate as sundials
 
@@ -320,6 +325,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
                       for e in events if e.time_s <= first]
     else:
         raise InputError(f"unknown method {method!r}; known: dopri5, cvodes, idas")
+    events = at_start + events
     if loop_event is not None:
         events.append(Event(LOOP_EVENT + f" ({loop_event[1]})", loop_event[0], True))
     q, qd = ys[:, :n], ys[:, n:2 * n]
