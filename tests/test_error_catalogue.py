@@ -50,6 +50,7 @@ from planar_sym.model.robot import Robot
 from planar_sym.motion import closure
 from planar_sym.motion.ik import inverse_kinematics
 from planar_sym.motion.profiles import coeff_3rd, cubic
+from planar_sym.study.checks import StudyError
 
 SERIAL = (ROBOTS / "serial_2dof.toml").read_text()
 FIVE_BAR = (ROBOTS / "five_bar_type1.toml").read_text()
@@ -60,7 +61,8 @@ DESC, ARRAYS, TRAJ, SIM, FILES, CLI = ("Robot descriptions", "Runtime arrays and
                                        "Forward simulation", "Generated files and libraries",
                                        "Command line")
 STUDY, LOOPS = "Study files", "Closed chains off their loops, passive joints"
-AREAS = (DESC, ARRAYS, TRAJ, SIM, LOOPS, STUDY, FILES, CLI)
+CONTROL = "Control in the loop"
+AREAS = (DESC, ARRAYS, TRAJ, SIM, LOOPS, CONTROL, STUDY, FILES, CLI)
 
 
 class CommandFailed(Exception):
@@ -1731,6 +1733,175 @@ def torque_limit_zero(ctx):
      "true)", TA + "test_an_actuator_on_a_passive_joint_is_refused")
 def actuator_on_passive_joint(ctx):
     _desc(ctx, ACT, ("actuated = true\n[joints.actuator]", "actuated = false\n[joints.actuator]"))
+
+
+# -- control in the loop (issue 12) ----------------------------------------------------------------
+
+TC = "tests/test_control.py::"
+
+
+def _tracking():
+    from planar_sym.study.motion import joint_motion
+    from planar_sym.study.run import load_study, robot_of
+
+    st = load_study("serial_2dof_cartesian_move")
+    robot = robot_of(st)
+    return robot, joint_motion(st, robot, 51)[0]
+
+
+@bad(CONTROL, "a negative gain: `controller(\"pd\", kp=-400, kd=40, width=2)`", InputError,
+     r"kp\[0\] is -400: a negative gain pushes the joint away from its reference \(unstable\)",
+     "kp[0] is -400: a negative gain pushes the joint away from its reference (unstable); gains "
+     "must be >= 0", TC + "test_gains_that_make_no_sense_are_refused")
+def negative_gain(ctx):
+    from planar_sym.control import controller
+
+    controller("pd", -400.0, 40.0, width=2)
+
+
+@bad(CONTROL, "a gain that is not a number: `kd = nan`", InputError,
+     r"kd\[0\] is nan: gains must be finite", "kd[0] is nan: gains must be finite",
+     TC + "test_gains_that_make_no_sense_are_refused")
+def nan_gain(ctx):
+    from planar_sym.control import controller
+
+    controller("pd", 400.0, float("nan"), width=2)
+
+
+@bad(CONTROL, "computed torque with no damping: `kp = 100, kd = 0`", InputError,
+     r"kd\[0\] is 0 with kp\[0\] = 100: the error would oscillate for ever",
+     "kd[0] is 0 with kp[0] = 100: the error would oscillate for ever (e'' + Kp e = 0); give "
+     "some damping, e.g. kd = 2 sqrt(kp) = 20 1/s for critical damping",
+     TC + "test_gains_that_make_no_sense_are_refused")
+def undamped_computed_torque(ctx):
+    from planar_sym.control import controller
+
+    controller("computed_torque", 100.0, 0.0, width=2)
+
+
+@bad(CONTROL, "a joint limit the start is already beyond (the event would stop the run at "
+              "t = 0)", InputError,
+     r"an event fires at t = 0 s, before the run starts: joint joint2 reached its lower limit",
+     "an event fires at t = 0 s, before the run starts: joint joint2 reached its lower limit "
+     "2.03 rad (give a start inside the limits, or a reference that starts there)",
+     TC + "test_an_event_at_the_start_is_refused")
+def event_at_start(ctx):
+    from planar_sym.control import controller, simulate_controlled
+
+    robot, jt = _tracking()
+    simulate_controlled(robot, controller("pd", 1.0, 0.1, width=2), (0.0, 1.0), reference=jt,
+                        joint_limits={"joint2": (jt.q[0, 1] + 0.1, 3.0)})
+
+
+@bad(CONTROL, "a run longer than its reference: 6 s along a 5 s motion", InputError,
+     r"the reference motion covers 0 to 5 s, but the run goes from 0 to 6 s",
+     "the reference motion covers 0 to 5 s, but the run goes from 0 to 6 s: extend the table, "
+     "or shorten the run", TC + "test_a_table_that_does_not_cover_the_run_is_refused")
+def reference_too_short(ctx):
+    from planar_sym.control import controller, simulate_controlled
+
+    robot, jt = _tracking()
+    simulate_controlled(robot, controller("pd", 1.0, 0.1, width=2), (0.0, 6.0), reference=jt)
+
+
+@bad(CONTROL, "a torque table (`control.torque = { file = \"tq.csv\" }`) that ends before the "
+              "run", InputError,
+     r"tq\.csv: the torque table covers 0 to 0\.5 s, but the run goes from 0 to 1 s",
+     "tq.csv: the torque table covers 0 to 0.5 s, but the run goes from 0 to 1 s: extend the "
+     "table, or shorten the run", TC + "test_a_torque_table_shorter_than_the_run_names_the_file")
+def torque_table_short(ctx):
+    from planar_sym.study.run import run
+
+    (ctx.tmp / "tq.csv").write_text("t_s,tau1_n_m,tau2_n_m\n0,0,0\n0.5,0.01,0\n")
+    path = ctx.tmp / "c.toml"
+    path.write_text(_CONTROL_STUDY.format(dx=-200.0, control='law = "pd"\nnatural_frequency_hz = '
+                                          '2.0\ntorque = { file = "tq.csv" }'))
+    run(path)
+
+
+_CONTROL_STUDY = """robot = "serial_2dof"
+kind = "control"
+[units]
+length = "mm"
+[motion]
+space = "task"
+profile = "cubic"
+start = [100.0, 100.0]
+by = [{dx}, 0.0]
+duration = 1.0
+samples = 51
+[control]
+{control}
+"""
+
+
+@bad(CONTROL, "a control study whose reference leaves the workspace (`by = [-400, 0]` mm)",
+     WorkspaceError,
+     r"serial_2dof: target \(x = [-0-9.]+ mm, y = 100 mm\) at t = 0\.62 s \(sample 31\)",
+     "serial_2dof: target (x = -170.618 mm, y = 100 mm) at t = 0.62 s (sample 31) violates the "
+     "joint limit 30 <= q2 <= 150 deg (q2 = 17.1535 deg)",
+     TC + "test_a_reference_that_leaves_the_workspace_names_the_time")
+def control_reference_outside(ctx):
+    from planar_sym.study.run import run
+
+    path = ctx.tmp / "c.toml"
+    path.write_text(_CONTROL_STUDY.format(dx=-400.0, control='law = "pd"\nkp = [1.0]\n'
+                                                              'kd = [0.1]'))
+    run(path)
+
+
+@bad(CONTROL, "a control study with a law and no gains: `[control] law = \"pd\"`", StudyError,
+     r"c\.toml: control: law 'pd' needs gains: natural_frequency_hz = \.\.\. \(and damping\), "
+     r"or kp = \[\.\.\.\] and kd = \[\.\.\.\]",
+     "c.toml: control: law 'pd' needs gains: natural_frequency_hz = ... (and damping), or kp = "
+     "[...] and kd = [...]", TC + "test_control_section_errors_name_the_field")
+def control_without_gains(ctx):
+    from planar_sym.study import spec
+
+    path = ctx.tmp / "c.toml"
+    path.write_text(_CONTROL_STUDY.format(dx=-200.0, control='law = "pd"'))
+    spec.load(path)
+
+
+@bad(CONTROL, "a control duration beyond a motion that ends moving (a table whose spline "
+              "ends with a rate)", InputError,
+     r"control\.duration 2 s outlasts the motion \(1 s\), which ends moving",
+     "c.toml: control.duration 2 s outlasts the motion (1 s), which ends moving (0.1 per s): the "
+     "reference cannot be held; end the motion at rest or shorten control.duration")
+def control_hold_moving(ctx):
+    from planar_sym.study.run import run
+
+    (ctx.tmp / "move.csv").write_text("t_s,x_mm,y_mm\n0,100,100\n0.5,50,100\n1.0,0,100\n")
+    text = _CONTROL_STUDY.format(dx=-200.0, control='law = "pd"\nnatural_frequency_hz = 2.0\n'
+                                                    'duration = 2.0')
+    text = text.replace('profile = "cubic"\nstart = [100.0, 100.0]\nby = [-200.0, 0.0]\n'
+                        'duration = 1.0', 'profile = "table"\nfile = "move.csv"')
+    path = ctx.tmp / "c.toml"
+    path.write_text(text)
+    run(path)
+
+
+@bad(CONTROL, "a Python function as the input torque of the compiled loop", InputError,
+     r"a torque function of time runs in Python; in the compiled loop give a table",
+     "a torque function of time runs in Python; in the compiled loop give a table "
+     "(planar_sym.control.signals.from_table) or a constant")
+def control_python_torque(ctx):
+    from planar_sym.control import controller, simulate_controlled
+
+    simulate_controlled(_arm(), controller("none", width=2), (0.0, 1.0), q0=[0.0, 0.0],
+                        torque=lambda t: [0.0, 0.0])
+
+
+@bad(CONTROL, "a plant that is another robot: `plant=ps.load(\"serial_3dof\")`", InputError,
+     r"the plant must be the same robot as the controller's model \(serial_2dof\)",
+     "the plant must be the same robot as the controller's model (serial_2dof), perhaps with "
+     "other parameters (with_parameters)")
+def control_other_plant(ctx):
+    from planar_sym.control import controller, simulate_controlled
+
+    robot, jt = _tracking()
+    simulate_controlled(robot, controller("pd", 1.0, 0.1, width=2), (0.0, 1.0), reference=jt,
+                        plant=ps.load("serial_3dof"))
 
 
 # -- the test ---------------------------------------------------------------------------------------
