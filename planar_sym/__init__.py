@@ -33,6 +33,7 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "WorkspaceError",
+    "controller",
     "cubic",
     "equations",
     "from_actuated",
@@ -42,6 +43,7 @@ __all__ = [
     "plot",
     "run_study",
     "simulate",
+    "simulate_controlled",
     "studies",
     "validate",
     "write_result",
@@ -54,7 +56,9 @@ _LAZY = {"simulate": ("dynamics.forward", "simulate"),
          "studies": ("study.builtin", "names"), "plot": ("outputs.plots", "plot"),
          "write_result": ("outputs.results", "write"),
          "from_actuated": ("motion.closure", "from_actuated"),
-         "validate": ("analysis.validate", "run_all")}
+         "validate": ("analysis.validate", "run_all"),
+         "simulate_controlled": ("control.loop", "simulate_controlled"),
+         "controller": ("control.laws", "controller")}
 
 
 def __getattr__(name: str):

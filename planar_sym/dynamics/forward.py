@@ -64,6 +64,11 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
                           rtol, atol, n_rhs)
     method = "DOP853" if method == "dopri5" else method
+    if method in ("cvodes", "idas"):
+        raise InputError(f"method {method!r} (SUNDIALS) runs in the compiled loop: "
+                         "planar_sym.simulate_controlled(robot, planar_sym.controller(\"none\", "
+                         "width=len(robot.actuated)), t_span, torque=..., q0=..., qd0=..., "
+                         f"method={method!r})")
     if method not in SCIPY_METHODS:
         raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
     fd = SingleCall(robot.library.functions["forward_dynamics"], robot.p)
