@@ -93,6 +93,7 @@ def mjcf(desc: Description, *, timestep: float = 1e-3, loops: bool = False,
 
     gx, gy = desc.gravity_m_s2
     tree = [line for ch in children.get(GROUND, []) for line in emit(ch, 3)]
+    tree += ["      " + site for site in sites.get(GROUND, ())]  # ground's frame is the world
     return "\n".join([
         f'<mujoco model="{desc.name}">',
         '  <compiler angle="radian" inertiafromgeom="false"/>',
@@ -122,8 +123,7 @@ def build(desc: Description, *, timestep: float = 1e-3, loops: bool = False,
     assert model.nq == model.nv == len(desc.coordinates)
     # qpos follows the description's coordinates (depth-first order of the tree joints)
     names = [model.joint(k).name for k in range(model.njnt)]
-    assert names == [j.name for j in desc.tree_joints if j.type != "weld"] or \
-        len(names) == len(desc.coordinates), names
+    assert names == list(desc.coordinates), (names, desc.coordinates)
     assert not model.dof_damping.any() and not model.dof_armature.any()
     assert model.neq == (len(desc.loop_joints) if closed else 0)
     return model, mujoco.MjData(model)

@@ -27,8 +27,9 @@ def run(args) -> int:
     print("\nBuilt-in studies (planar-sym run NAME --out DIR):")
     for name in names():
         st = load_study(find(name))
-        samples = st.motion.samples if st.motion else st.simulation.samples
-        print(f"  {name:<30} {st.title}  [{samples} samples]")
+        samples = (st.control.samples if st.control else st.motion.samples if st.motion
+                   else st.simulation.samples)
+        print(f"  {name:<30} {st.title}  [{st.kind}, {samples} samples]")
     if args.folder is not None:
         list_folder(args.folder)
     return 0
