@@ -1,4 +1,4 @@
-"""The benchmark harness runs end to end (``python -m benchmarks --quick``, about 10 s), writes
+"""The benchmark harness runs end to end (``python -m benchmarks --quick``, about 15 s), writes
 every section with numeric ratios, and its baselines compute the same torques as planar_sym
 (the correctness gates the harness applies before timing, asserted here directly)."""
 
@@ -17,7 +17,8 @@ if str(ROOT) not in sys.path:  # the benchmarks package lives at the repository 
 
 SECTIONS = ("## Machine", "## Headlines", "## Correctness gates", "## 1. Inverse dynamics",
             "## 2. Forward dynamics", "## 3. Derive and compile times",
-            "## 4. Import and first-torque latency")
+            "## 4. Import and first-torque latency",
+            "## 5. Closed-loop control")
 RATIO = re.compile(r"\d+(?:\.\d+)?(?:e[+-]?\d+)?x(?:\*\*)? \[\d")
 
 
@@ -36,7 +37,7 @@ def test_quick_run_writes_every_section_with_ratios(tmp_path):
         assert label in text, f"machine description lacks {label!r}"
     # every section carries ratios: split the report at its numbered sections
     parts = re.split(r"^## \d\. ", text, flags=re.MULTILINE)[1:]
-    assert len(parts) == 4
+    assert len(parts) == 5
     for part in parts:
         assert RATIO.search(part), f"no 'N.NNx [min-...' ratio in section {part[:40]!r}"
     assert "FAIL" not in text
@@ -82,3 +83,25 @@ def test_mujoco_rk4_follows_planar_sym_simulate():
     assert t[-1] == pytest.approx(1.0) and dt == pytest.approx(1e-4)
     sim = simulate(robot, q0, np.zeros(2), (0.0, 1.0), t_eval=t)
     assert np.max(np.abs(q - sim.q)) < 1e-9
+
+
+@pytest.mark.parametrize("label, study", [("S3", "serial_2dof_cartesian_move"),
+                                          ("S5", "five_bar_type1_move_x")])
+def test_control_baselines_agree_with_the_compiled_loop(label, study):
+    """The control section's Python controller (SciPy and MuJoCo baselines) commands the
+    compiled controller's torques, and its MuJoCo model (the five-bar's cut joint a connect
+    constraint) has planar_sym's mass matrix and bias forces, its loop closed at the start."""
+    pytest.importorskip("mujoco")
+    from benchmarks import control
+
+    p = control.load_problem(label, study, 0.2)
+    plant = control.MujocoPlant(p)
+    for law in control.LAWS:
+        ctl = control.make_controller(p, law)
+        run = control.ours(p, ctl)
+        law_py = control.PyController(p.robot, ctl, p.ref)
+        py = np.array([law_py(t, q, qd) for t, q, qd in zip(run.t_s, run.q, run.qd)])
+        assert rel_err(py, run.tau_cmd) < 1e-9
+    assert all(c.ok for c in plant.check(p, run.q, run.qd))
+    q, _, _ = control.mujoco_run(plant, p, ctl, law_py, 1e-3, True)
+    assert q.shape == run.q.shape and np.max(np.abs(q - run.q)) < 1e-5

@@ -203,6 +203,13 @@ def test_signal_interpolants_match_scipy():
                     np.column_stack([20 * t ** 3, -np.cos(t)]))
     assert np.max(np.abs(s(tt)[:, 0] - tt ** 5)) < 1e-12  # a quintic is exact
     assert np.max(np.abs(s(tt, 2)[:, 0] - 20 * tt ** 3)) < 1e-10
+    # the closed form equals SciPy's Hermite construction
+    from scipy.interpolate import BPoly
+
+    bp = BPoly.from_derivatives(t, np.stack([q, s(t, 1), s(t, 2)], axis=1))
+    for der in range(3):
+        assert np.max(np.abs(s(tt, der) - bp.derivative(der)(tt) if der else s(tt) - bp(tt))) \
+            < 1e-10
 
 
 # -- saturation, friction and events ---------------------------------------------------------

@@ -129,16 +129,20 @@ def build(desc: Description, *, timestep: float = 1e-3, loops: bool = False,
     return model, mujoco.MjData(model)
 
 
-def full_mass_matrix(model, data, out: np.ndarray) -> np.ndarray:
-    """MuJoCo's dense mass matrix into ``out`` (n, n), after ``mj_forward`` (or a stage of
-    it): ``mj_fullM`` takes (m, d, dst) since MuJoCo 3.3, (m, dst, d.qM) before."""
+def mass_matrix_filler(model, data, out: np.ndarray):
+    """A function of no arguments writing MuJoCo's dense mass matrix (of the last forward pass,
+    or of the RK4 stage being evaluated) into ``out`` (n, n): ``mj_fullM`` takes (m, d, dst)
+    since MuJoCo 3.3 and (m, dst, d.qM) before; which one is found once, here."""
     import mujoco
 
+    full = mujoco.mj_fullM
     try:
-        mujoco.mj_fullM(model, data, out)
+        full(model, data, out)
+        return lambda: full(model, data, out)
     except TypeError:
-        mujoco.mj_fullM(model, out, data.qM)
-    return out
+        qm = data.qM
+        full(model, out, qm)
+        return lambda: full(model, out, qm)
 
 
 def inverse_loop(model, data, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:

@@ -51,7 +51,7 @@ typedef struct {
     const double *T, *c;
 } Signal;
 
-/* Mirrored by planar_sym/dynamics/compiled_loop.py (ctypes); keep the two in step. */
+/* Mirrored by _CControl in planar_sym/control/loop.py (ctypes); keep the two in step. */
 typedef struct {
     int mode;                 /* 0 open loop, 1 PD + gravity, 2 computed torque */
     int saturate;
