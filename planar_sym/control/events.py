@@ -50,11 +50,12 @@ class Event:
 
 
 def joint_limit_events(robot, limits: dict, action: str) -> list[EventSpec]:
-    """Events for ``limits`` {coordinate name or index: (lower, upper)} in SI (rad or m)."""
+    """Events for ``limits`` {coordinate (``coordinate_index``): (lower, upper)} in SI (rad
+    or m)."""
     _check_action("on_joint_limit", action)
     out = []
     for key, bounds in (limits or {}).items():
-        i = _coordinate(robot, key)
+        i = coordinate_index(robot, key)
         name = robot.coordinates[i]
         try:
             lo, hi = (float(b) for b in bounds)
@@ -104,11 +105,16 @@ def _check_action(field: str, action: str) -> None:
         raise InputError(f"{field} must be \"stop\" or \"continue\" (got {action!r})")
 
 
-def _coordinate(robot, key) -> int:
+def coordinate_index(robot, key) -> int:
+    """A coordinate named by its 0-based index, its joint's name, or ``q<k>`` (1-based, as
+    in the CSV columns)."""
     if isinstance(key, (int, np.integer)) and not isinstance(key, bool):
         if 0 <= key < robot.n:
             return int(key)
     elif key in robot.coordinates:
         return robot.coordinates.index(key)
-    raise InputError(f"joint limit for {key!r}: not a coordinate of {robot.name} "
-                     f"(coordinates: {', '.join(robot.coordinates)})")
+    elif isinstance(key, str) and key[:1] == "q" and key[1:].isdigit() \
+            and 1 <= int(key[1:]) <= robot.n:
+        return int(key[1:]) - 1
+    raise InputError(f"joint limit for {key!r}: not a coordinate of {robot.name} (q1..q{robot.n}"
+                     f", or {', '.join(robot.coordinates)})")

@@ -10,7 +10,8 @@ segments re-projected onto the loops, as free simulations do (``forward_closed``
 from __future__ import annotations
 
 import ctypes
-from dataclasses import dataclass, field
+import functools
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -72,7 +73,6 @@ class ControlledRun:
     n_rhs: int
     events: tuple[Event, ...] = ()
     constraint_drift_m: float = 0.0
-    notes: tuple[str, ...] = field(default_factory=tuple)
 
     @property
     def stopped(self) -> Event | None:
@@ -162,7 +162,9 @@ class _Setup:
         return out
 
 
+@functools.cache
 def _functions():
+    """The C entry points, their argument types declared once per process."""
     from ..dynamics.integrate import helper
 
     lib = helper()

@@ -23,13 +23,12 @@ from .signals import Signal
 
 
 def _externals(robot: Robot) -> dict:
+    """The robot's compiled functions as CasADi Functions (the library already built)."""
     import casadi as ca
 
     lib = robot.library
-    out = {}
-    for q, spec in lib.manifest["functions"].items():
-        out[q] = ca.external(spec["symbol"], str(lib.path), {"enable_fd": True})
-    return out
+    return {q: ca.external(spec["symbol"], str(lib.path), {"enable_fd": True})
+            for q, spec in lib.manifest["functions"].items()}
 
 
 def signal_mx(sig: Signal, t):
@@ -60,7 +59,8 @@ def closed_loop_rhs(robot: Robot, plant: Robot, ctl: Controller, ref: Signal | N
     """Symbols (t, x) and the torques, accelerations and work rates of the closed loop."""
     import casadi as ca
 
-    ext_nom, ext = _externals(robot), _externals(plant)
+    ext_nom = _externals(robot)  # the plant differs in its parameters only: same functions
+    ext = ext_nom if plant.library is robot.library else _externals(plant)
     n, na, m = robot.n, len(robot.actuated), robot.n_constraints
     act = list(robot.actuated)
     pas = [i for i in range(n) if i not in act]

@@ -350,7 +350,6 @@ int planar_sym_dopri5_ctl(int kind, int n, int m, int n_act, const int *act, con
     hh = fmin(hh, span);
     int o = 0;
     while (o < n_out && t_out[o] <= t0) { memcpy(y_out + (long long)o * d, y, sizeof(double) * d); ++o; }
-    (void)c2; (void)c3; (void)c4; (void)c5;
     while (o < n_out) {
         if (stats[1] + stats[2] >= max_steps) { *t_fail = t; stats[3] = o; return 3; }
         double target = t_out[o];

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..control import controller as make_controller
+from ..control.events import coordinate_index
 from ..control.loop import ControlledRun, simulate_controlled
 from ..control.signals import Signal, from_motion, from_table
 from ..errors import InputError
@@ -125,16 +126,13 @@ def _start(st: specs.Study, robot: Robot, jt: JointTrajectory):
 
 def _limits(st: specs.Study, robot: Robot) -> dict:
     """Joint limits in SI, keyed by coordinate index; ``q<k>`` or the joint's name."""
-    out = {}
     scale = coordinate_scale(st, robot)
+    out = {}
     for key, (lo, hi) in st.events.joint_limits.items():
-        if key in robot.coordinates:
-            i = robot.coordinates.index(key)
-        elif key.startswith("q") and key[1:].isdigit() and 1 <= int(key[1:]) <= robot.n:
-            i = int(key[1:]) - 1
-        else:
-            raise InputError(f"{st.path or st.name}: events.joint_limits.{key}: not a joint of "
-                             f"{robot.name} (q1..q{robot.n}, or {', '.join(robot.coordinates)})")
+        try:
+            i = coordinate_index(robot, key)
+        except InputError as exc:
+            raise InputError(f"{st.path or st.name}: events.joint_limits.{key}: {exc}") from None
         out[i] = (lo * scale[i], hi * scale[i])
     return out
 

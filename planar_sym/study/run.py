@@ -13,6 +13,7 @@ the parent body on the child body); for forward dynamics ``energy_j``.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -178,6 +179,7 @@ def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
     evaluated in Python. ``tau`` comes back on the actuated joints."""
     from ..control import controller, simulate_controlled
     from ..dynamics.forward import simulate
+    from ..dynamics.integrate import Simulation
     from .control_run import torque_input
 
     s = st.simulation
@@ -189,7 +191,8 @@ def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
                                   (0.0, s.duration_s),
                                   torque=np.zeros(len(act)) if u is None else u, q0=q0,
                                   qd0=qd0, t_eval=t, method=s.method, rtol=s.rtol, atol=s.atol)
-        return _Run(run.q, run.qd, run.tau, run.kinetic_j, run.potential_j, s.method, s.rtol)
+        return Simulation(t, run.q, run.qd, run.tau, run.kinetic_j, run.potential_j, s.method,
+                          s.rtol, s.atol, run.n_rhs)
     if compiled_input:
         sig = u
 
@@ -198,17 +201,7 @@ def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
     sim = simulate(robot, q0, qd0, (0.0, s.duration_s), t_eval=t, torque=u,
                    method=s.method, rtol=s.rtol, atol=s.atol)
     tau = sim.tau[:, act] if sim.tau.shape[1] == robot.n else sim.tau
-    return _Run(sim.q, sim.qd, tau, sim.kinetic_j, sim.potential_j, sim.method, sim.rtol)
-
-
-class _Run:
-    """What a forward result needs of a simulation, whichever route ran it."""
-
-    def __init__(self, q, qd, tau, kinetic_j, potential_j, method, rtol):
-        self.q, self.qd, self.tau, self.method, self.rtol = q, qd, tau, method, rtol
-        self.energy_j = kinetic_j + potential_j
-        scale = max(abs(self.energy_j[0]), float(np.max(np.abs(kinetic_j))), 1e-300)
-        self.energy_drift = float(np.max(np.abs(self.energy_j - self.energy_j[0])) / scale)
+    return replace(sim, tau=tau)  # on the actuated joints, as the compiled route gives them
 
 
 def _input_note(tq) -> str:
