@@ -370,3 +370,27 @@ def test_builtin_control_studies_balance_energy(name):
     total = sum(res.split.values())
     taus = np.column_stack([v for k, v in res.torques().items()])
     assert np.max(np.abs(total - taus)) < 1e-9
+
+
+# -- as a student types it ---------------------------------------------------------------------
+
+def test_one_gain_for_every_joint_in_a_study_and_in_python(tmp_path):
+    """`kp = 100` (a number, not a list) in a study; `controller(...)` without width."""
+    path = _study(tmp_path, BASE.format(dx=-200.0, control='law = "computed_torque"\nkp = 400\n'
+                                                           'kd = 40'))
+    res = run(path, 51)
+    assert "Kp 400, 400 1/s^2" in res.note
+    robot, jt = study_reference("serial_2dof_cartesian_move", 51)
+    both = [simulate_controlled(robot, ctl, (0.0, 5.0), reference=jt,
+                                t_eval=np.linspace(0, 5, 11)).q
+            for ctl in (controller("pd", 2.0, 0.2), controller("pd", 2.0, 0.2, width=2))]
+    assert np.array_equal(*both)
+
+
+def test_a_joint_limit_named_q_k_says_its_degrees():
+    robot = load("serial_2dof")
+    ref = Signal(np.array([0.0, 3.0]), np.array([[[0.0], [0.0]]]))
+    res = simulate_controlled(robot, controller("pd", 0.5, 0.001), (0.0, 3.0), reference=ref,
+                              q0=[0.0, 0.5], joint_limits={"q2": (-0.3, 1.0)},
+                              t_eval=np.linspace(0, 3, 31))
+    assert res.stopped.name == "joint joint2 reached its lower limit -0.3 rad (-17.1887 deg)"

@@ -67,9 +67,9 @@ def joint_limit_events(robot, limits: dict, action: str) -> list[EventSpec]:
                              f"[{lo:g}, {hi:g}])")
         unit = robot.coordinate_units[i]
         out += [EventSpec(0, i, lo, action == "stop",
-                          f"joint {name} reached its lower limit {lo:.6g} {unit}"),
+                          f"joint {name} reached its lower limit {_shown(lo, unit)}"),
                 EventSpec(1, i, hi, action == "stop",
-                          f"joint {name} reached its upper limit {hi:.6g} {unit}")]
+                          f"joint {name} reached its upper limit {_shown(hi, unit)}")]
     return out
 
 
@@ -98,6 +98,11 @@ def actuator_events(robot, action: str) -> tuple[list[EventSpec], np.ndarray]:
                                  f"joint {joint} faster than its motor's limit ({v:.4g} {unit} "
                                  "at the joint)"))
     return out, bound
+
+
+def _shown(v: float, unit: str) -> str:
+    """A limit in SI, and an angle also in degrees (as study files give them)."""
+    return f"{v:.6g} {unit}" + (f" ({np.degrees(v):.6g} deg)" if unit == "rad" else "")
 
 
 def _check_action(field: str, action: str) -> None:

@@ -58,12 +58,14 @@ class Controller:
         return f"{force}/{unit}", f"{force}*s/{unit}"
 
 
-def _gains(name: str, value, width: int) -> tuple[float, ...]:
+def _gains(name: str, value, width: int | None) -> tuple[float, ...]:
     try:
-        arr = np.broadcast_to(np.asarray(value, dtype=float), (width,))
+        arr = np.asarray(value, dtype=float)
+        arr = arr.reshape(-1) if width is None and arr.ndim <= 1 else \
+            np.broadcast_to(arr, (width,))
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be one number or {width} numbers, one per actuated "
-                         f"joint (got {value!r})") from None
+        raise InputError(f"{name} must be one number or {width or 'several'} numbers, one per "
+                         f"actuated joint (got {value!r})") from None
     for k, v in enumerate(arr):
         if not np.isfinite(v):
             raise InputError(f"{name}[{k}] is {v}: gains must be finite")
@@ -75,9 +77,10 @@ def _gains(name: str, value, width: int) -> tuple[float, ...]:
     return tuple(float(v) for v in arr)
 
 
-def controller(kind: str = "pd", kp=None, kd=None, *, width: int,
+def controller(kind: str = "pd", kp=None, kd=None, *, width: int | None = None,
                saturate: bool = True) -> Controller:
-    """A checked Controller for ``width`` actuated coordinates.
+    """A checked Controller for ``width`` actuated coordinates (None: as many as the robot it
+    is used with has; one gain then serves every joint).
 
     ``kp``, ``kd``: one number (every joint) or one per actuated joint; required for "pd" and
     "computed_torque", not taken by "none". Negative, non-finite or absurd gains raise

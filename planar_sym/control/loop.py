@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import ctypes
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -210,7 +210,7 @@ def check_controller(robot: Robot, ctl: Controller) -> None:
                          f"coordinates ({robot.n - len(robot.actuated)}) as loop equations "
                          f"({robot.n_constraints})")
     for k in (ctl.kp, ctl.kd):
-        if k and len(k) != len(robot.actuated):
+        if k and len(k) not in (1, len(robot.actuated)):
             raise InputError(f"{robot.name}: {len(k)} gains for {len(robot.actuated)} "
                              "actuated joints")
 
@@ -267,6 +267,9 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         raise InputError(f"the plant must be the same robot as the controller's model "
                          f"({robot.name}), perhaps with other parameters (with_parameters)")
     check_controller(robot, controller)
+    na = len(robot.actuated)
+    if controller.kp and len(controller.kp) != na:  # one gain for every joint
+        controller = replace(controller, kp=controller.kp * na, kd=controller.kd * na)
     check_tolerances(rtol, atol)
     t = time_grid(t_span, t_eval)
     t0, t1 = float(t_span[0]), float(t_span[1])

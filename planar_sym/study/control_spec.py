@@ -6,7 +6,8 @@ gains, the plant's parameters and the run; the events and what each does.
     [control]
     law = "computed_torque"        # "pd" (PD + gravity compensation), "computed_torque", "none"
     natural_frequency_hz = 4.0     # gains from a bandwidth (and damping, default 1) ...
-    # kp = [400.0, 400.0]          # ... or given: PD in N*m/rad, computed torque in 1/s^2
+    # kp = [400.0, 400.0]          # ... or given (one number: every joint): PD in N*m/rad,
+                                   # computed torque in 1/s^2
     # kd = [40.0, 40.0]            #               PD in N*m*s/rad, computed torque in 1/s
     saturate = true                # clip at the description's actuator limits
     duration = 2.0                 # s (default: the motion's; the reference then holds)
@@ -84,7 +85,9 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
     """``parameters``: the checker's parser of a parameters table (shared with [parameters])."""
     c.keys(tbl, _CONTROL, "control.")
     law = c.choice(tbl, "law", "control.law", LAWS)
-    kp, kd = c.vector(tbl, "kp", "control.kp"), c.vector(tbl, "kd", "control.kd")
+    # one number for every joint, or one per actuated joint
+    kp, kd = (c.vector({k: [tbl[k]] if _number(tbl.get(k)) else tbl.get(k)}, k, f"control.{k}")
+              for k in ("kp", "kd"))
     freq = None
     if "natural_frequency_hz" in tbl:
         freq = c.number(tbl, "natural_frequency_hz", "control.natural_frequency_hz",
@@ -125,6 +128,10 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
         return None
     return ControlSpec(law, kp, kd, freq, damping, saturate, duration, samples, start_error,
                        torque, method, rtol, atol, plant)
+
+
+def _number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
 def parse_torque(c: Checker, raw, fld: str) -> TorqueInput | None:
