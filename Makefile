@@ -9,12 +9,12 @@ STAMP  := $(VENV)/.installed
 help:  ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/'
 
-venv: $(STAMP)  ## virtual environment with the package (editable), derive and test extras
+venv: $(STAMP)  ## virtual environment with the package (editable), derive, test, bench and cluster extras
 
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench]'
+	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench,cluster]'
 	touch $@
 
 derive: $(STAMP)  ## re-derive every built-in robot into generated/ (deterministic, atomic)

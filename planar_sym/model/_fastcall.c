@@ -18,6 +18,9 @@
 #include <string.h>
 
 #define MAX_IO 8
+/* calls over at least this many samples release the GIL: below it, releasing and taking it
+ * back (~100 ns) would cost more than the loop itself */
+#define GIL_SAMPLES 64
 
 typedef int (*loop_fn)(long long, const double *const *, double *const *);
 
@@ -142,7 +145,15 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
         }
         out[i] = (double *)PyArray_DATA((PyArrayObject *)outs[i]);
     }
-    if (self->fn((long long)n, in, out)) {
+    int status;
+    if (n >= GIL_SAMPLES) {  /* long loops let other threads run (a sweep on several cores) */
+        Py_BEGIN_ALLOW_THREADS
+        status = self->fn((long long)n, in, out);
+        Py_END_ALLOW_THREADS
+    } else {
+        status = self->fn((long long)n, in, out);
+    }
+    if (status) {
         PyErr_SetString(PyExc_RuntimeError, "generated function failed");
         goto done;
     }
@@ -165,6 +176,187 @@ done:
     return result;
 }
 
+/* Scan for a non-finite entry; sets the package's error naming it and returns 1. */
+static int check_finite(Caller *self, PyObject *name, const double *x, npy_intp rows,
+                        npy_intp width, const char *what) {
+    npy_intp total = rows * width;
+    int bad = 0;
+    for (npy_intp k = 0; k < total; ++k) bad |= !(x[k] - x[k] == 0.0);
+    for (npy_intp k = 0; bad && k < total; ++k)
+        if (!isfinite(x[k])) {
+            PyObject *v = PyFloat_FromDouble(x[k]);
+            if (v) {
+                PyErr_Format(self->error, "%U[%zd, %zd] is %R (%s %zd): inputs must be finite",
+                             name, (Py_ssize_t)(k / width), (Py_ssize_t)(k % width), v, what,
+                             (Py_ssize_t)(k / width));
+                Py_DECREF(v);
+            }
+            return 1;
+        }
+    return 0;
+}
+
+/* designs(P, *arrays, reduce=False): the loop once per design, each with its own parameter
+ * vector P[d] (D, n_p), over the same N samples: an array of shape (N, size) is shared by every
+ * design, one of shape (D, N, size) is per design. Outputs gain a leading design axis; with
+ * reduce=True only per-design statistics come back, shape (D, components, 3): the minimum, the
+ * maximum and the mean square of every output component over the samples (the per-sample
+ * values pass through one reused buffer, so a sweep's memory does not grow with N). The loop
+ * over the designs runs without the GIL. */
+static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t nargs,
+                                PyObject *kwnames) {
+    PyArrayObject *P = NULL, *arr[MAX_IO] = {0};
+    PyObject *outs[MAX_IO] = {0}, *result = NULL;
+    double *scratch = NULL;
+    int reduce = 0, i, shared[MAX_IO];
+    npy_intp D, N = -1, np_ = PyArray_DIM((PyArrayObject *)self->p, 0), comps = 0;
+    Py_ssize_t nkw = kwnames ? PyTuple_GET_SIZE(kwnames) : 0;
+    for (Py_ssize_t k = 0; k < nkw; ++k) {
+        if (PyUnicode_CompareWithASCIIString(PyTuple_GET_ITEM(kwnames, k), "reduce") != 0) {
+            PyErr_Format(PyExc_TypeError, "designs: unexpected keyword %R",
+                         PyTuple_GET_ITEM(kwnames, k));
+            return NULL;
+        }
+        reduce = PyObject_IsTrue(args[nargs + k]);
+        if (reduce < 0) return NULL;
+    }
+    if (nargs != self->n_in + 1) {
+        PyErr_Format(PyExc_TypeError, "designs: expected the parameters and %d arrays, got %zd "
+                     "arguments", self->n_in, nargs);
+        return NULL;
+    }
+    P = (PyArrayObject *)PyArray_FROMANY(args[0], NPY_DOUBLE, 2, 2,
+                                         NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
+    if (!P || PyArray_DIM(P, 1) != np_) {
+        PyErr_Clear();
+        PyErr_Format(self->error, "parameters must be a float array of shape (designs, %zd)",
+                     (Py_ssize_t)np_);
+        goto done;
+    }
+    D = PyArray_DIM(P, 0);
+    {
+        PyObject *pname = PyUnicode_FromString("parameters");
+        int bad = pname ? check_finite(self, pname, PyArray_DATA(P), D, np_, "design") : 1;
+        Py_XDECREF(pname);
+        if (bad) goto done;
+    }
+    for (i = 0; i < self->n_in; ++i) {
+        PyObject *name = PyTuple_GET_ITEM(self->names, i);
+        arr[i] = (PyArrayObject *)PyArray_FROMANY(args[i + 1], NPY_DOUBLE, 2, 3,
+                                                  NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
+        if (!arr[i]) {
+            PyErr_Clear();
+            PyErr_Format(self->error, "%U must be a float array of shape (N, %zd) or "
+                         "(designs, N, %zd)", name, self->in_size[i], self->in_size[i]);
+            goto done;
+        }
+        int d = PyArray_NDIM(arr[i]);
+        shared[i] = d == 2;
+        npy_intp rows = PyArray_DIM(arr[i], d - 2);
+        if (PyArray_DIM(arr[i], d - 1) != self->in_size[i] || (d == 3 && PyArray_DIM(arr[i], 0) != D)) {
+            PyErr_Format(self->error, "%U must have shape (N, %zd) or (%zd, N, %zd)", name,
+                         self->in_size[i], (Py_ssize_t)D, self->in_size[i]);
+            goto done;
+        }
+        if (N < 0) N = rows;
+        else if (rows != N) {
+            PyErr_Format(self->error, "inputs must have the same number of samples, got %zd "
+                         "and %zd (%U)", (Py_ssize_t)N, (Py_ssize_t)rows, name);
+            goto done;
+        }
+        if (check_finite(self, name, PyArray_DATA(arr[i]), (d == 3 ? D : 1) * rows,
+                         self->in_size[i], "sample row"))
+            goto done;
+    }
+    for (i = 0; i < self->n_out; ++i) comps += self->out_rows[i] * self->out_cols[i];
+    if (reduce) {
+        npy_intp dims[3] = {D, comps, 3};
+        outs[0] = PyArray_SimpleNew(3, dims, NPY_DOUBLE);
+        scratch = PyMem_RawMalloc(sizeof(double) * (size_t)(N > 0 ? N : 1) * (size_t)comps);
+        if (!outs[0] || !scratch) { PyErr_NoMemory(); goto done; }
+    } else {
+        for (i = 0; i < self->n_out; ++i) {
+            npy_intp dims[4] = {D, N, self->out_rows[i], self->out_cols[i]};
+            int nd = 2 + (self->out_kind[i] >= 1) + (self->out_kind[i] == 2);
+            outs[i] = PyArray_SimpleNew(nd, dims, NPY_DOUBLE);
+            if (!outs[i]) {
+                if (PyErr_ExceptionMatches(PyExc_MemoryError)) {
+                    PyErr_Clear();
+                    PyErr_Format(self->error, "not enough memory for the outputs of %zd designs "
+                                 "of %zd samples (%.3g GB): use reduce=True or fewer designs "
+                                 "per call", (Py_ssize_t)D, (Py_ssize_t)N,
+                                 8.0 * D * N * comps / 1e9);
+                }
+                goto done;
+            }
+        }
+    }
+    {
+        long long failed = -1;
+        const double *pp = PyArray_DATA(P);
+        Py_BEGIN_ALLOW_THREADS
+        for (npy_intp d = 0; d < D && failed < 0; ++d) {
+            const double *in[MAX_IO + 1];
+            double *out[MAX_IO];
+            for (int j = 0, k = 0; j < self->n_in + 1; ++j) {
+                if (j == self->p_slot) { in[j] = pp + d * np_; continue; }
+                const double *x = PyArray_DATA(arr[k]);
+                in[j] = shared[k] ? x : x + d * N * self->in_size[k];
+                ++k;
+            }
+            double *at = scratch;
+            for (int k = 0; k < self->n_out; ++k) {
+                npy_intp size = self->out_rows[k] * self->out_cols[k];
+                if (reduce) { out[k] = at; at += N * size; }
+                else out[k] = (double *)PyArray_DATA((PyArrayObject *)outs[k]) + d * N * size;
+            }
+            if (self->fn((long long)N, in, out)) { failed = d; break; }
+            if (!reduce) continue;
+            double *stats = (double *)PyArray_DATA((PyArrayObject *)outs[0]) + d * comps * 3;
+            npy_intp c0 = 0;
+            for (int k = 0; k < self->n_out; ++k) {
+                npy_intp size = self->out_rows[k] * self->out_cols[k];
+                for (npy_intp c = 0; c < size; ++c) {
+                    double lo = INFINITY, hi = -INFINITY, sq = 0.0;
+                    for (npy_intp s = 0; s < N; ++s) {
+                        double v = out[k][s * size + c];
+                        lo = v < lo ? v : lo;
+                        hi = v > hi ? v : hi;
+                        sq += v * v;
+                        if (v != v) { lo = hi = v; }  /* NaN poisons both: a failed sample shows */
+                    }
+                    double *st = stats + (c0 + c) * 3;
+                    st[0] = lo; st[1] = hi; st[2] = N > 0 ? sq / (double)N : 0.0;
+                }
+                c0 += size;
+            }
+        }
+        Py_END_ALLOW_THREADS
+        if (failed >= 0) {
+            PyErr_Format(PyExc_RuntimeError, "generated function failed at design %lld", failed);
+            goto done;
+        }
+    }
+    if (reduce || self->n_out == 1) {
+        result = outs[0];
+        outs[0] = NULL;
+    } else {
+        result = PyTuple_New(self->n_out);
+        if (result)
+            for (i = 0; i < self->n_out; ++i) { PyTuple_SET_ITEM(result, i, outs[i]); outs[i] = NULL; }
+    }
+done:
+    PyMem_RawFree(scratch);
+    Py_XDECREF(P);
+    for (i = 0; i < MAX_IO; ++i) { Py_XDECREF(arr[i]); Py_XDECREF(outs[i]); }
+    return result;
+}
+
+static PyMethodDef caller_methods[] = {
+    {"designs", (PyCFunction)(void (*)(void))caller_designs, METH_FASTCALL | METH_KEYWORDS,
+     "designs(P, *arrays, reduce=False): the loop once per parameter vector P[d]"},
+    {NULL, NULL, 0, NULL}};
+
 static PyObject *caller_get_doc(Caller *self, void *closure) {
     (void)closure;
     return Py_NewRef(self->doc ? self->doc : Py_None);
@@ -182,6 +374,7 @@ static PyTypeObject CallerType = {
     .tp_vectorcall_offset = offsetof(Caller, vectorcall),
     .tp_call = PyVectorcall_Call,
     .tp_getset = caller_getset,
+    .tp_methods = caller_methods,
 };
 
 /* make(address, in_sizes, p_slot, out_specs ((rows, cols, kind), ...), p, error, names, doc) */

@@ -3,12 +3,15 @@ use) or a generated folder; loading it once per process."""
 
 from __future__ import annotations
 
+import copyreg
 import json
 import os
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import InputError, LibraryError
-from .library import Library, find_generated
+from .library import Library, cache_dir, find_generated
 from .robot import Robot
 
 _CACHE: dict[tuple[Path, int, int], Library] = {}
@@ -96,3 +99,55 @@ def load(robot: str | os.PathLike, generated: str | os.PathLike | None = None) -
     if key not in _CACHE:
         _CACHE[key] = Library(name, folder)
     return Robot(name, _CACHE[key])
+
+
+def _reduce(robot: Robot):
+    """A Robot pickles by reference (what a worker process or a cluster node needs to load the
+    same robot): a built-in robot's name, or a user robot's generated folder with its
+    description text (a node without the folder derives it again); the parameters and the
+    ``exact`` flag travel as values. Each process compiles once into its own cache and loads
+    once (``load``)."""
+    ref = (robot.name, None, None) if robot.is_builtin else (
+        robot.name, str(robot.library.folder.resolve()), _text_or_none(robot.description_file))
+    return (_restore, (ref, robot.library.manifest["input_hash"], robot.p.copy(), robot.exact))
+
+
+copyreg.pickle(Robot, _reduce)  # here, not in robot.py: loading by reference needs this module
+
+
+def _text_or_none(path: Path | None) -> str | None:
+    try:
+        return path.read_text() if path is not None else None
+    except OSError:
+        return None
+
+
+def _restore(ref: tuple[str, str | None, str | None], input_hash: str, p: np.ndarray,
+             exact: bool) -> Robot:
+    """A pickled Robot in this process: the same generated code (checked by its input hash),
+    loaded once per process (``locate.load``), with the pickled parameters."""
+    name, folder, description = ref
+    if folder is None:
+        robot = load(name)
+    elif (Path(folder) / "manifest.json").is_file():
+        robot = load(Path(folder))
+    elif description is not None:  # another machine: derive it there from the same text
+        path = cache_dir() / "descriptions" / f"{name}-{input_hash[:16]}.toml"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if not path.is_file():
+            from ..files import atomic_files
+
+            with atomic_files([path]) as (tmp,):
+                tmp.write_text(description)
+        robot = load(path)
+    else:
+        raise LibraryError(f"cannot load robot {name} here: its generated folder {folder} is "
+                           "not on this machine and it has no description to derive it from")
+    if robot.library.manifest["input_hash"] != input_hash:
+        raise LibraryError(f"robot {name} here ({robot.library.folder}) was derived from other "
+                           f"inputs (hash {robot.library.manifest['input_hash'][:16]}...) than "
+                           f"the pickled one ({input_hash[:16]}...): derive the same description")
+    if exact != robot.exact:
+        robot = Robot(robot.name, robot.library, exact=exact)
+    robot.p[:] = p  # in place: the compiled callers read this very array
+    return robot

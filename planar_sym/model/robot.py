@@ -405,3 +405,4 @@ class Robot:
         """gamma = -(Phi_q qd)_q qd, so that Phi_q qdd = gamma."""
         r, s = self._call("constraint_bias", q=q, qd=qd)
         return self._out(r["gamma"], s)
+

@@ -70,7 +70,12 @@ def run(study: str | Path | specs.Study, samples: int | None = None) -> Result:
     st = load_study(study)
     if samples is not None and (not isinstance(samples, (int, np.integer)) or samples < 2):
         raise InputError(f"samples must be an integer >= 2 (got {samples})")
-    robot = robot_of(st)
+    return run_on(st, robot_of(st), samples)
+
+
+def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
+    """Run ``st`` on ``robot`` as it is (its parameters, not the study's overrides): what a
+    sweep calls once per design, on one robot whose parameter vector it sets in place."""
     if st.kind == "forward":
         return _forward(st, robot, samples)
     if st.kind == "control":

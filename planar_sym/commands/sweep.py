@@ -1,0 +1,134 @@
+"""``planar-sym sweep``: one study (or atlas) per design, the figures in one table and plot."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "sweep", help="run a study once per design (parameters over a grid or a random sample)"
+                      "; writes STUDY_sweep.csv and STUDY_sweep.png",
+        description="Vary robot parameters (SI: m, kg, kg*m^2; see `planar-sym list` and the "
+                    "robot's parameters in the README) and collect each design's figures: peak "
+                    "and RMS torque per actuator, cut-joint forces, conditioning; or, with "
+                    "--atlas, the workspace area and dexterity.")
+    p.add_argument("study", help="built-in study name or study file (.toml)")
+    p.add_argument("--vary", action="append", default=[], metavar="NAME=SPEC", required=True,
+                   help="NAME=LOW:HIGH:COUNT (grid), NAME=V1,V2,... (values), NAME=LOW:HIGH "
+                        "(with --random); NAME1,NAME2=... ties parameters to the same values; "
+                        "repeat for more parameters (a grid takes every combination)")
+    p.add_argument("--random", type=int, default=None, metavar="N",
+                   help="draw N designs uniformly between the LOW:HIGH bounds instead of a grid")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="local threads (default: every core)")
+    p.add_argument("--processes", type=int, default=None, metavar="N",
+                   help="run batches in N local processes instead of threads")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="a dask.distributed scheduler (tcp://host:8786) to run the batches on")
+    p.add_argument("--atlas", action="store_true",
+                   help="sweep the robot's atlas (workspace area, dexterity) instead of the study")
+    p.add_argument("--atlas-points", type=int, default=60, metavar="N",
+                   help="atlas grid points per axis with --atlas (default 60)")
+    p.add_argument("--out", type=Path, default=Path("results"), help="output folder")
+    p.add_argument("--x", default=None, metavar="COLUMN", help="plot against this column")
+    p.add_argument("--figure", action="append", default=None, metavar="COLUMN",
+                   help="plot this figure (repeatable; default the peak torques)")
+    p.set_defaults(fn=run)
+
+
+def parse_vary(items: list[str], random: bool) -> dict:
+    """``--vary`` options as ``sweep``'s ``vary``: names (tied by commas) to values."""
+    vary = {}
+    for item in items:
+        name, sep, spec = item.partition("=")
+        if not sep or not name.strip() or not spec.strip():
+            raise InputError(f"--vary {item!r}: write NAME=LOW:HIGH:COUNT, NAME=V1,V2,... or "
+                             "NAME=LOW:HIGH (with --random)")
+        try:
+            numbers = [float(v) for v in spec.replace(":", ",").split(",")]
+        except ValueError:
+            raise InputError(f"--vary {item!r}: {spec!r} is not numbers") from None
+        if ":" in spec:
+            want = 2 if random else 3
+            if len(numbers) != want:
+                raise InputError(f"--vary {item!r}: {'LOW:HIGH' if random else 'LOW:HIGH:COUNT'}"
+                                 f" expected {'with --random' if random else 'on a grid'}")
+            value = tuple(numbers)
+        else:
+            value = numbers
+        vary[name.strip()] = value
+    return vary
+
+
+def run(args) -> int:
+    from ..analysis.sweep import sweep
+    from ..outputs.sweep_plots import write_sweep
+    from ..study.run import load_study
+    from .run import check_out
+
+    check_out(args.out)
+    if sum(x is not None for x in (args.processes, args.scheduler)) > 1:
+        raise InputError("give --processes or --scheduler, not both")
+    if args.atlas_points < 2:
+        raise InputError(f"--atlas-points must be >= 2 (got {args.atlas_points})")
+    st = load_study(args.study)
+    vary = parse_vary(args.vary, args.random is not None)
+    executor = _executor(args)
+    start = time.perf_counter()
+    try:
+        result = sweep(st, vary, sample="random" if args.random is not None else "grid",
+                       count=args.random, seed=args.seed, executor=executor,
+                       workers=args.workers,
+                       atlas={"points": args.atlas_points} if args.atlas else None)
+    finally:
+        if executor is not None:
+            executor.shutdown() if hasattr(executor, "shutdown") else None
+    took = time.perf_counter() - start
+    csv, png = args.out / f"{st.name}_sweep.csv", args.out / f"{st.name}_sweep.png"
+    paths = write_sweep(result, csv, png, x=args.x, figures=args.figure)
+    lost = sum(why.startswith("worker error") for why in result.failed.values())
+    if not args.quiet:
+        print(f"{st.name}: {result.note}, {took:.3g} s")
+        for name in result.figures:
+            v = result.columns[name]
+            v = v[np.isfinite(v)]
+            if len(v):
+                print(f"  {name}: {v.min():.6g} to {v.max():.6g}")
+        for path in paths:
+            print(f"  wrote {path}")
+    for k, why in list(result.failed.items())[:5]:
+        print(f"design {k}: {why}", file=sys.stderr)
+    if len(result.failed) > 5:
+        print(f"... and {len(result.failed) - 5} more failed designs (see the CSV's error column)",
+              file=sys.stderr)
+    return 1 if lost else 0
+
+
+def _executor(args):
+    if args.processes is not None:
+        if args.processes < 1:
+            raise InputError(f"--processes must be >= 1 (got {args.processes})")
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        # spawn, not fork: a forked child would inherit this process's threads and locks
+        return ProcessPoolExecutor(args.processes, mp_context=multiprocessing.get_context("spawn"))
+    if args.scheduler is not None:
+        try:
+            from dask.distributed import Client
+        except ImportError:
+            raise InputError("--scheduler needs dask.distributed: pip install "
+                             "'planar-sym[cluster]'") from None
+        try:
+            return Client(args.scheduler, timeout=10)
+        except OSError as exc:
+            raise InputError(f"--scheduler {args.scheduler}: cannot reach it ({exc})") from None
+    return None
