@@ -33,6 +33,7 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "WorkspaceError",
+    "atlas",
     "controller",
     "cubic",
     "equations",
@@ -45,6 +46,7 @@ __all__ = [
     "simulate",
     "simulate_controlled",
     "studies",
+    "sweep",
     "validate",
     "write_result",
 ]
@@ -58,7 +60,8 @@ _LAZY = {"simulate": ("dynamics.forward", "simulate"),
          "from_actuated": ("motion.closure", "from_actuated"),
          "validate": ("analysis.validate", "run_all"),
          "simulate_controlled": ("control.loop", "simulate_controlled"),
-         "controller": ("control.laws", "controller")}
+         "controller": ("control.laws", "controller"),
+         "sweep": ("analysis.sweep", "sweep"), "atlas": ("analysis.atlas", "atlas")}
 
 
 def __getattr__(name: str):

@@ -18,7 +18,7 @@ if str(ROOT) not in sys.path:  # the benchmarks package lives at the repository 
 SECTIONS = ("## Machine", "## Headlines", "## Correctness gates", "## 1. Inverse dynamics",
             "## 2. Forward dynamics", "## 3. Derive and compile times",
             "## 4. Import and first-torque latency",
-            "## 5. Closed-loop control")
+            "## 5. Closed-loop control", "## 6. Design tools")
 RATIO = re.compile(r"\d+(?:\.\d+)?(?:e[+-]?\d+)?x(?:\*\*)? \[\d")
 
 
@@ -37,7 +37,7 @@ def test_quick_run_writes_every_section_with_ratios(tmp_path):
         assert label in text, f"machine description lacks {label!r}"
     # every section carries ratios: split the report at its numbered sections
     parts = re.split(r"^## \d\. ", text, flags=re.MULTILINE)[1:]
-    assert len(parts) == 5
+    assert len(parts) == 6
     for part in parts:
         assert RATIO.search(part), f"no 'N.NNx [min-...' ratio in section {part[:40]!r}"
     assert "FAIL" not in text

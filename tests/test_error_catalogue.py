@@ -62,7 +62,8 @@ DESC, ARRAYS, TRAJ, SIM, FILES, CLI = ("Robot descriptions", "Runtime arrays and
                                        "Command line")
 STUDY, LOOPS = "Study files", "Closed chains off their loops, passive joints"
 CONTROL = "Control in the loop"
-AREAS = (DESC, ARRAYS, TRAJ, SIM, LOOPS, CONTROL, STUDY, FILES, CLI)
+DESIGN = "Atlases and sweeps"
+AREAS = (DESC, ARRAYS, TRAJ, SIM, LOOPS, CONTROL, DESIGN, STUDY, FILES, CLI)
 
 
 class CommandFailed(Exception):
@@ -1902,6 +1903,72 @@ def control_other_plant(ctx):
     robot, jt = _tracking()
     simulate_controlled(robot, controller("pd", 1.0, 0.1, width=2), (0.0, 1.0), reference=jt,
                         plant=ps.load("serial_3dof"))
+
+
+# -- atlases and sweeps ---------------------------------------------------------------------------
+@bad(DESIGN, "a sweep of a parameter the robot does not have: `vary={\"m_lnk2\": ...}`",
+     InputError, r"unknown parameter 'm_lnk2' of serial_2dof; known: g, m_link1",
+     "unknown parameter 'm_lnk2' of serial_2dof; known: g, m_link1, izz_link1, cgx_link1, "
+     "m_motor2, izz_motor2, m_link2, izz_link2, cgx_link2, px_link1_CS2, px_link2_CS2",
+     see="tests/test_sweep.py::test_bad_sweeps_get_one_clear_message")
+def sweep_unknown_parameter(ctx):
+    ps.sweep("serial_2dof_cartesian_move", {"m_lnk2": (0.05, 0.1, 3)})
+
+
+@bad(DESIGN, "a sweep range that reaches non-physical values (a mass from -0.05 kg)",
+     InputError, r"design 0 \(m_link2 = -0\.05\) is not physical: parameter m_link2 must be > 0",
+     "design 0 (m_link2 = -0.05) is not physical: parameter m_link2 must be > 0 kg (got -0.05) "
+     "(2 of 4 designs are not); narrow the range")
+def sweep_not_physical(ctx):
+    ps.sweep("serial_2dof_cartesian_move", {"m_link2": (-0.05, 0.1, 4)})
+
+
+@bad(DESIGN, "a sweep grid too large for memory (three parameters at 2000 x 2000 x 100 values)",
+     InputError, r"4e\+08 designs of 11 parameters would take 35\.2 GB",
+     "4e+08 designs of 11 parameters would take 35.2 GB for their parameter vectors alone "
+     "(limit 2 GB): fewer values per parameter, or a random sample")
+def sweep_too_large(ctx):
+    ps.sweep("serial_2dof_cartesian_move", {"m_link1": (0.05, 0.1, 2000),
+                                            "m_link2": (0.05, 0.1, 2000), "g": (1.0, 9.0, 100)})
+
+
+@bad(DESIGN, "an executor whose worker dies during a sweep (one batch of three lost)", Warned,
+     r"3 of 9 designs were lost to worker errors \(first: design 3, worker error: RuntimeError: "
+     r"worker 2 was killed\); the other designs' figures are kept",
+     "3 of 9 designs were lost to worker errors (first: design 3, worker error: RuntimeError: "
+     "worker 2 was killed); the other designs' figures are kept",
+     see="tests/test_sweep.py::test_a_failing_executor_loses_only_its_batch")
+def sweep_worker_dies(ctx):
+    from concurrent.futures import Future
+
+    class Flaky:
+        calls = 0
+
+        def submit(self, fn, *args):
+            self.calls += 1
+            fut = Future()
+            if self.calls == 2:
+                fut.set_exception(RuntimeError("worker 2 was killed"))
+            else:
+                fut.set_result(fn(*args))
+            return fut
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = ps.sweep("serial_2dof_cartesian_move", {"m_link2": (0.05, 0.1, 9)},
+                       executor=Flaky(), batch=3)
+    assert sorted(res.failed) == [3, 4, 5] and np.isfinite(res.columns["peak_tau1_n_m"][6:]).all()
+    lost = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert len(lost) == 1, [str(w.message) for w in caught]
+    raise Warned(str(lost[0].message))
+
+
+@bad(DESIGN, "`planar-sym sweep STUDY --vary m_link2=0.05:0.1` (a grid without its count)",
+     CommandFailed, r"--vary 'm_link2=0\.05:0\.1': LOW:HIGH:COUNT expected on a grid",
+     "error: --vary 'm_link2=0.05:0.1': LOW:HIGH:COUNT expected on a grid")
+def sweep_cli_range(ctx):
+    _cli(ctx, "sweep", "serial_2dof_cartesian_move", "--vary", "m_link2=0.05:0.1", "--out",
+         str(ctx.tmp))
 
 
 # -- the test ---------------------------------------------------------------------------------------

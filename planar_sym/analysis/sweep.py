@@ -129,8 +129,9 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
         raise InputError(f"batch must be an integer >= 1 (got {batch!r})")
     route, shared = _route(st, robot, space, atlas)
     n_workers = workers or os.cpu_count() or 1
-    size = batch or (FAST_BATCH if route == "shared motion" else
-                     max(1, math.ceil(len(space) / (4 * n_workers))))
+    # at least one batch per worker (four where each design is slow), at most FAST_BATCH
+    per = 1 if route == "shared motion" else 4
+    size = batch or max(1, min(FAST_BATCH, math.ceil(len(space) / (per * n_workers))))
     jobs = [_Job(robot, st, space.P[k:k + size], k, route, shared, atlas)
             for k in range(0, len(space), size)]
     own = executor is None

@@ -20,10 +20,12 @@ def register(sub) -> None:
                     "and RMS torque per actuator, cut-joint forces, conditioning; or, with "
                     "--atlas, the workspace area and dexterity.")
     p.add_argument("study", help="built-in study name or study file (.toml)")
-    p.add_argument("--vary", action="append", default=[], metavar="NAME=SPEC", required=True,
+    p.add_argument("--vary", action="append", default=[], metavar="NAME=SPEC",
                    help="NAME=LOW:HIGH:COUNT (grid), NAME=V1,V2,... (values), NAME=LOW:HIGH "
                         "(with --random); NAME1,NAME2=... ties parameters to the same values; "
                         "repeat for more parameters (a grid takes every combination)")
+    p.add_argument("--parameters", action="store_true",
+                   help="list the study's robot's parameters (name, value, SI unit) and stop")
     p.add_argument("--random", type=int, default=None, metavar="N",
                    help="draw N designs uniformly between the LOW:HIGH bounds instead of a grid")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -80,6 +82,10 @@ def run(args) -> int:
     if args.atlas_points < 2:
         raise InputError(f"--atlas-points must be >= 2 (got {args.atlas_points})")
     st = load_study(args.study)
+    if args.parameters:
+        return _list_parameters(st)
+    if not args.vary:
+        raise InputError("say what varies: --vary NAME=LOW:HIGH:COUNT (names: --parameters)")
     vary = parse_vary(args.vary, args.random is not None)
     executor = _executor(args)
     start = time.perf_counter()
@@ -110,6 +116,16 @@ def run(args) -> int:
         print(f"... and {len(result.failed) - 5} more failed designs (see the CSV's error column)",
               file=sys.stderr)
     return 1 if lost else 0
+
+
+def _list_parameters(st) -> int:
+    from ..study.run import robot_of
+
+    robot = robot_of(st)
+    print(f"{robot.name} (as {st.name} sets it): parameters in SI")
+    for par, v in zip(robot.parameter_list, robot.p):
+        print(f"  {par.name:<24} {v:<14.6g} {par.unit:<8} {par.meaning}")
+    return 0
 
 
 def _executor(args):
