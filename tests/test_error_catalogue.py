@@ -1906,6 +1906,49 @@ def control_other_plant(ctx):
 
 
 # -- atlases and sweeps ---------------------------------------------------------------------------
+@bad(DESIGN, "an atlas region with its ends reversed: `x_range=(0.1, -0.1)`", InputError,
+     r"x_range = \(0\.1, -0\.1\) m: the minimum must be below the maximum",
+     "x_range = (0.1, -0.1) m: the minimum must be below the maximum",
+     see="tests/test_atlas.py")
+def atlas_reversed(ctx):
+    ps.atlas("five_bar_type1", x_range=(0.1, -0.1))
+
+
+@bad(DESIGN, "an atlas grid too large for memory: `step=1e-6` (a micrometre)", InputError,
+     r"five_bar_type1: a grid of 193,818,240,000 points \(404800 x 478800\) would take "
+     r"8\.68e\+04 GB of memory \(limit 2 GB\)",
+     "five_bar_type1: a grid of 193,818,240,000 points (404800 x 478800) would take 8.68e+04 GB "
+     "of memory (limit 2 GB): use a larger step or fewer points", see="tests/test_atlas.py")
+def atlas_too_large(ctx):
+    ps.atlas("five_bar_type1", step=1e-6)
+
+
+@bad(DESIGN, "an atlas of a robot whose reach a slider leaves unbounded, with no region",
+     InputError, r"serial_rpr: a slider on every leg to the task point leaves its reach "
+                 r"unbounded: give the region",
+     "serial_rpr: a slider on every leg to the task point leaves its reach unbounded: give the "
+     "region (x_range and y_range, m; --x and --y, mm)", see="tests/test_atlas.py")
+def atlas_slider_region(ctx):
+    ps.atlas("serial_rpr")
+
+
+@bad(DESIGN, "`planar-sym atlas five_bar_type2 --x 100 -100`", CommandFailed,
+     r"--x 100 -100: give MIN MAX in mm, finite, MIN below MAX",
+     "error: --x 100 -100: give MIN MAX in mm, finite, MIN below MAX")
+def atlas_cli_range(ctx):
+    _cli(ctx, "atlas", "five_bar_type2", "--x", "100", "-100", "--out", str(ctx.tmp))
+
+
+@bad(DESIGN, "a torque envelope along a simulation (not an inverse-dynamics study)", InputError,
+     r"\(kind = \"inverse\"\); this one is kind = \"forward\"",
+     "serial_2dof_free_swing: the torque envelope follows an inverse-dynamics study's path "
+     "(kind = \"inverse\"); this one is kind = \"forward\"")
+def atlas_along_forward(ctx):
+    from planar_sym.analysis.atlas import envelope_along
+
+    envelope_along("serial_2dof_free_swing")
+
+
 @bad(DESIGN, "a sweep of a parameter the robot does not have: `vary={\"m_lnk2\": ...}`",
      InputError, r"unknown parameter 'm_lnk2' of serial_2dof; known: g, m_link1",
      "unknown parameter 'm_lnk2' of serial_2dof; known: g, m_link1, izz_link1, cgx_link1, "
