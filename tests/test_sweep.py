@@ -262,3 +262,20 @@ def test_cli_sweep_writes_table_and_plot(tmp_path, capsys):
                       (["--vary", "m_link2=a,b"], "is not numbers")):
         assert main(["sweep", "serial_2dof_cartesian_move", *argv, "--out", str(tmp_path)]) == 2
         assert msg in capsys.readouterr().err
+
+
+def test_atlas_sweep_equals_each_designs_atlas():
+    """Sweeping the Type II 5-bar's pivot distance: each design's atlas summary equals the
+    atlas of a new Robot with that parameter (its drawn pose re-assembled by the atlas)."""
+    from planar_sym.analysis.atlas import atlas
+
+    result = sweep("five_bar_type2_move_x", {"px_ground_E": [0.15, 0.25]},
+                   atlas={"points": 30})
+    assert result.route == "atlas" and not result.failed
+    base = ps.load("five_bar_type2")
+    for k, e in enumerate((0.15, 0.25)):
+        s = atlas(base.with_parameters(px_ground_E=e), points=30).summary()
+        assert result.columns["area_m2"][k] == s["area_m2"]
+        assert result.columns["median_dexterity"][k] == s["median_dexterity"]
+    # pivots further apart reach less (the legs overlap less)
+    assert result.columns["area_m2"][1] < result.columns["area_m2"][0]

@@ -159,7 +159,8 @@ def start(robot: Robot, q_start) -> tuple[np.ndarray, str]:
     whose drawn configuration is singular (a stretched arm) starts bent by BEND_RAD at every
     revolute joint after the first, the seed's elbow (q2 = +acos). A closed chain's
     ``q_start`` may miss its loops by up to START_GAP_M: its passive joints are then solved
-    from its actuated ones (``motion.closure.solve_passive``)."""
+    from its actuated ones (``motion.closure.solve_passive``); so are the drawn
+    configuration's, where the parameters moved a loop's joints further than that."""
     from ..motion.newton import start_pose
 
     if q_start is not None and robot.is_closed_chain:
@@ -171,6 +172,16 @@ def start(robot: Robot, q_start) -> tuple[np.ndarray, str]:
                              f"{gap * 1e3:.4g} mm, limit {START_GAP_M * 1e3:g} mm): give an "
                              "assembled pose")
         q_start = solve_passive(robot, q_start[list(robot.actuated)][None], q_start)[0]
+    if q_start is None and robot.is_closed_chain:
+        gap = float(np.max(np.abs(robot.constraint(robot.q_drawn))))
+        if gap > START_GAP_M:  # lengths changed since the drawing (with_parameters, a sweep)
+            from ..motion.closure import solve_passive
+
+            q = solve_passive(robot, robot.q_drawn[list(robot.actuated)][None],
+                              robot.q_drawn)[0]
+            return start_pose(robot, q), (
+                f"the drawn configuration misses the loops by {gap * 1e3:.3g} mm with these "
+                "parameters: started from its actuated angles, the passive joints solved")
     if q_start is not None or robot.is_closed_chain:
         return start_pose(robot, q_start), ""
     try:

@@ -341,8 +341,13 @@ def run_figures(st: specs.Study, robot: Robot) -> dict[str, float]:
 def _atlas_figures(robot: Robot, options: dict) -> dict[str, float]:
     from .atlas import atlas
 
-    return {k: float(v) for k, v in atlas(robot, **options).summary().items()
-            if np.ndim(v) == 0}
+    figs = {}
+    for k, v in atlas(robot, **options).summary().items():  # the numbers, not the labels
+        if isinstance(v, (bool, np.bool_)):
+            figs[k] = float(v)
+        elif isinstance(v, (int, float, np.number)):
+            figs[k] = float(v)
+    return figs
 
 
 def _table(st: specs.Study, space: DesignSpace, route: str, jobs: list[_Job],

@@ -99,7 +99,9 @@ def run(args) -> int:
             executor.shutdown() if hasattr(executor, "shutdown") else None
     took = time.perf_counter() - start
     csv, png = args.out / f"{st.name}_sweep.csv", args.out / f"{st.name}_sweep.png"
-    paths = write_sweep(result, csv, png, x=args.x, figures=args.figure)
+    # with every design failed there is nothing to plot: the table still says why
+    paths = write_sweep(result, csv, png if result.figures else None, x=args.x,
+                        figures=args.figure)
     lost = sum(why.startswith("worker error") for why in result.failed.values())
     if not args.quiet:
         print(f"{st.name}: {result.note}, {took:.3g} s")
@@ -115,7 +117,7 @@ def run(args) -> int:
     if len(result.failed) > 5:
         print(f"... and {len(result.failed) - 5} more failed designs (see the CSV's error column)",
               file=sys.stderr)
-    return 1 if lost else 0
+    return 1 if lost or not result.figures else 0
 
 
 def _list_parameters(st) -> int:
