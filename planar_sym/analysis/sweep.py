@@ -341,13 +341,8 @@ def run_figures(st: specs.Study, robot: Robot) -> dict[str, float]:
 def _atlas_figures(robot: Robot, options: dict) -> dict[str, float]:
     from .atlas import atlas
 
-    figs = {}
-    for k, v in atlas(robot, **options).summary().items():  # the numbers, not the labels
-        if isinstance(v, (bool, np.bool_)):
-            figs[k] = float(v)
-        elif isinstance(v, (int, float, np.number)):
-            figs[k] = float(v)
-    return figs
+    return {k: float(v) for k, v in atlas(robot, **options).summary().items()  # not labels
+            if isinstance(v, (bool, int, float, np.bool_, np.number))}
 
 
 def _table(st: specs.Study, space: DesignSpace, route: str, jobs: list[_Job],
