@@ -279,3 +279,29 @@ def test_atlas_sweep_equals_each_designs_atlas():
         assert result.columns["median_dexterity"][k] == s["median_dexterity"]
     # pivots further apart reach less (the legs overlap less)
     assert result.columns["area_m2"][1] < result.columns["area_m2"][0]
+
+
+@pytest.mark.parametrize("name", ["serial_2dof", "five_bar_type1", "parallel_3rrr", "serial_rpr"])
+def test_column_checks_agree_with_the_scalar_rules(name):
+    """model.parameters.failing (whole columns, for sweeps) refuses exactly the designs that
+    model.parameters.problems (one design, for with_parameters) finds a problem in."""
+    from planar_sym.model.parameters import failing, problems
+
+    robot = ps.load(name)
+    names = [p.name for p in robot.parameter_list]
+    P = robot.p * np.random.default_rng(5).uniform(-0.5, 3.0, (600, len(names)))
+    scalar = [bool(problems(dict(zip(names, map(float, row))), robot.body_names)) for row in P]
+    np.testing.assert_array_equal(failing(names, P, robot.body_names), scalar)
+    assert 0 < sum(scalar) < len(P)
+
+
+def test_a_bad_value_in_a_design_array_names_the_design_and_the_sample():
+    arm = ps.load("serial_2dof")
+    P = np.tile(arm.p, (3, 1))
+    q = np.zeros((3, 4, 2))
+    q[1, 2, 0] = np.nan
+    with pytest.raises(InputError, match=r"q\[1, 2, 0\] is nan at design 1, sample 2"):
+        arm.tree_inverse_dynamics.designs(P, q, np.zeros((4, 2)), np.zeros((4, 2)))
+    P[2, 3] = np.inf
+    with pytest.raises(InputError, match=r"parameters\[2, 3\] is inf at design 2"):
+        arm.tree_inverse_dynamics.designs(P, q[0], q[0], q[0])

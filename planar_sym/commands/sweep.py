@@ -96,7 +96,9 @@ def run(args) -> int:
                        atlas={"points": args.atlas_points} if args.atlas else None)
     finally:
         if executor is not None:
-            executor.shutdown() if hasattr(executor, "shutdown") else None
+            # a Dask client is closed, never shut down: Client.shutdown would stop the user's
+            # scheduler and workers too
+            (getattr(executor, "close", None) or executor.shutdown)()
     took = time.perf_counter() - start
     csv, png = args.out / f"{st.name}_sweep.csv", args.out / f"{st.name}_sweep.png"
     # with every design failed there is nothing to plot: the table still says why

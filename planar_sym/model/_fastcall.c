@@ -48,6 +48,47 @@ static void caller_dealloc(Caller *self) {
     Py_TYPE(self)->tp_free((PyObject *)self);
 }
 
+/* Scan for a non-finite entry; sets the package's error naming it and returns 1. ``rows``
+ * rows of ``width`` values, each ``what`` (a sample, a design); with ``per`` > 0 the rows are
+ * blocks of ``per`` samples, one block per design, and the message names both. The first pass
+ * is branch-free (x - x is 0 for finite x, NaN otherwise), so it vectorises. */
+static int check_finite(Caller *self, PyObject *name, const double *x, npy_intp rows,
+                        npy_intp width, const char *what, npy_intp per) {
+    npy_intp total = rows * width;
+    int bad = 0;
+    for (npy_intp k = 0; k < total; ++k) bad |= !(x[k] - x[k] == 0.0);
+    for (npy_intp k = 0; bad && k < total; ++k)
+        if (!isfinite(x[k])) {
+            Py_ssize_t r = (Py_ssize_t)(k / width), c = (Py_ssize_t)(k % width);
+            PyObject *v = PyFloat_FromDouble(x[k]);
+            if (v && per > 0)
+                PyErr_Format(self->error, "%U[%zd, %zd, %zd] is %R at design %zd, sample %zd: "
+                             "inputs must be finite", name, r / (Py_ssize_t)per,
+                             r % (Py_ssize_t)per, c, v, r / (Py_ssize_t)per,
+                             r % (Py_ssize_t)per);
+            else if (v)
+                PyErr_Format(self->error, "%U[%zd, %zd] is %R at %s %zd: inputs must be finite",
+                             name, r, c, v, what, r);
+            Py_XDECREF(v);
+            return 1;
+        }
+    return 0;
+}
+
+/* The outputs as the call's result: one array alone, several as a tuple (the references move
+ * from ``outs`` into the result). */
+static PyObject *pack(PyObject **outs, int n_out) {
+    if (n_out == 1) {
+        PyObject *one = outs[0];
+        outs[0] = NULL;
+        return one;
+    }
+    PyObject *result = PyTuple_New(n_out);
+    if (result)
+        for (int i = 0; i < n_out; ++i) { PyTuple_SET_ITEM(result, i, outs[i]); outs[i] = NULL; }
+    return result;
+}
+
 static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                              PyObject *kwnames) {
     Py_ssize_t nargs = PyVectorcall_NARGS(nargsf);
@@ -106,23 +147,9 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                          PyTuple_GET_ITEM(self->names, i), (Py_ssize_t)rows);
             goto done;
         }
-        const double *x = (const double *)PyArray_DATA(arr[i]);
-        npy_intp total = n * self->in_size[i];
-        int bad = 0;  /* x - x is 0 for finite x, NaN otherwise: a branch-free, vectorised scan */
-        for (npy_intp k = 0; k < total; ++k) bad |= !(x[k] - x[k] == 0.0);
-        for (npy_intp k = 0; bad && k < total; ++k) {
-            if (!isfinite(x[k])) {
-                npy_intp s = k / self->in_size[i], c = k % self->in_size[i];
-                PyObject *v = PyFloat_FromDouble(x[k]);
-                if (v) {
-                    PyErr_Format(self->error, "%U[%zd, %zd] is %R at sample %zd: inputs must be "
-                                 "finite", PyTuple_GET_ITEM(self->names, i), (Py_ssize_t)s,
-                                 (Py_ssize_t)c, v, (Py_ssize_t)s);
-                    Py_DECREF(v);
-                }
-                goto done;
-            }
-        }
+        if (check_finite(self, PyTuple_GET_ITEM(self->names, i), PyArray_DATA(arr[i]), n,
+                         self->in_size[i], "sample", 0))
+            goto done;
     }
     for (i = 0, j = 0; j < self->n_in + 1; ++j)
         in[j] = j == self->p_slot ? (const double *)PyArray_DATA((PyArrayObject *)self->p)
@@ -163,37 +190,10 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
             Py_SETREF(outs[i], f);
             if (!f) goto done;
         }
-    if (self->n_out == 1) {
-        result = outs[0];
-        outs[0] = NULL;
-    } else {
-        result = PyTuple_New(self->n_out);
-        if (result)
-            for (i = 0; i < self->n_out; ++i) { PyTuple_SET_ITEM(result, i, outs[i]); outs[i] = NULL; }
-    }
+    result = pack(outs, self->n_out);
 done:
     for (i = 0; i < MAX_IO; ++i) { Py_XDECREF(arr[i]); Py_XDECREF(outs[i]); }
     return result;
-}
-
-/* Scan for a non-finite entry; sets the package's error naming it and returns 1. */
-static int check_finite(Caller *self, PyObject *name, const double *x, npy_intp rows,
-                        npy_intp width, const char *what) {
-    npy_intp total = rows * width;
-    int bad = 0;
-    for (npy_intp k = 0; k < total; ++k) bad |= !(x[k] - x[k] == 0.0);
-    for (npy_intp k = 0; bad && k < total; ++k)
-        if (!isfinite(x[k])) {
-            PyObject *v = PyFloat_FromDouble(x[k]);
-            if (v) {
-                PyErr_Format(self->error, "%U[%zd, %zd] is %R (%s %zd): inputs must be finite",
-                             name, (Py_ssize_t)(k / width), (Py_ssize_t)(k % width), v, what,
-                             (Py_ssize_t)(k / width));
-                Py_DECREF(v);
-            }
-            return 1;
-        }
-    return 0;
 }
 
 /* designs(P, *arrays, reduce=False): the loop once per design, each with its own parameter
@@ -236,7 +236,7 @@ static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t 
     D = PyArray_DIM(P, 0);
     {
         PyObject *pname = PyUnicode_FromString("parameters");
-        int bad = pname ? check_finite(self, pname, PyArray_DATA(P), D, np_, "design") : 1;
+        int bad = pname ? check_finite(self, pname, PyArray_DATA(P), D, np_, "design", 0) : 1;
         Py_XDECREF(pname);
         if (bad) goto done;
     }
@@ -265,7 +265,7 @@ static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t 
             goto done;
         }
         if (check_finite(self, name, PyArray_DATA(arr[i]), (d == 3 ? D : 1) * rows,
-                         self->in_size[i], "sample row"))
+                         self->in_size[i], "sample", d == 3 ? rows : 0))
             goto done;
     }
     for (i = 0; i < self->n_out; ++i) comps += self->out_rows[i] * self->out_cols[i];
@@ -337,14 +337,7 @@ static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t 
             goto done;
         }
     }
-    if (reduce || self->n_out == 1) {
-        result = outs[0];
-        outs[0] = NULL;
-    } else {
-        result = PyTuple_New(self->n_out);
-        if (result)
-            for (i = 0; i < self->n_out; ++i) { PyTuple_SET_ITEM(result, i, outs[i]); outs[i] = NULL; }
-    }
+    result = pack(outs, reduce ? 1 : self->n_out);
 done:
     PyMem_RawFree(scratch);
     Py_XDECREF(P);
