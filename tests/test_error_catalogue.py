@@ -1966,6 +1966,21 @@ def sweep_not_physical(ctx):
     ps.sweep("serial_2dof_cartesian_move", {"m_link2": (-0.05, 0.1, 4)})
 
 
+@bad(DESIGN, "a sweep range typed in grams as kg: `vary={\"m_link2\": [50, 100]}` for a 75 g "
+             "forearm", Warned,
+     r"m_link2 from 50 to 100 kg reaches 667 to 1\.33e\+03 times serial_2dof's 0\.075 kg: a "
+     r"unit slip\? \(sweeps take SI units\)",
+     "m_link2 from 50 to 100 kg reaches 667 to 1.33e+03 times serial_2dof's 0.075 kg: a unit "
+     "slip? (sweeps take SI units)", see="tests/test_sweep.py")
+def sweep_unit_slip(ctx):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ps.sweep("serial_2dof_cartesian_move", {"m_link2": [50.0, 100.0]})
+    slips = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert len(slips) == 1, [str(w.message) for w in caught]
+    raise Warned(str(slips[0].message))
+
+
 @bad(DESIGN, "a sweep grid too large for memory (three parameters at 2000 x 2000 x 100 values)",
      InputError, r"4e\+08 designs of 11 parameters would take 35\.2 GB",
      "4e+08 designs of 11 parameters would take 35.2 GB for their parameter vectors alone "

@@ -305,3 +305,15 @@ def test_a_bad_value_in_a_design_array_names_the_design_and_the_sample():
     P[2, 3] = np.inf
     with pytest.raises(InputError, match=r"parameters\[2, 3\] is inf at design 2"):
         arm.tree_inverse_dynamics.designs(P, q[0], q[0], q[0])
+
+
+def test_a_range_in_the_wrong_unit_is_warned_about():
+    """Grams typed as kg (50 to 100 'kg' for a 75 g forearm): physically possible, so the
+    sweep runs, but says so, naming the parameter and the factor."""
+    with pytest.warns(RuntimeWarning, match=r"m_link2 from 50 to 100 kg reaches 667 to "
+                                             r"1\.33e\+03 times serial_2dof's 0\.075 kg: a unit"):
+        result = sweep("serial_2dof_cartesian_move", {"m_link2": [50.0, 100.0]})
+    assert np.isfinite(result.columns["peak_tau2_n_m"]).all()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a range of ordinary size is quiet
+        sweep("serial_2dof_cartesian_move", {"m_link2": [0.05, 0.1]})

@@ -152,7 +152,30 @@ def design_space(robot: Robot, vary: dict, *, sample: str = "grid", count: int |
         P[:, known.index(name)] = values[:, k]
     _check_physical(robot, names, values, P)
     units = tuple(robot.parameter_list[known.index(n)].unit for n in names)
+    _warn_unit_slip(robot, names, units, values)
     return DesignSpace(names, units, values, np.ascontiguousarray(P), sample)
+
+
+#: a varied value this many times the base robot's (or its inverse) is likely a unit slip
+#: (grams as kg, mm as m: 1000x); physically possible, so warned about, not refused
+SLIP_RATIO = 100.0
+
+
+def _warn_unit_slip(robot: Robot, names, units, values: np.ndarray) -> None:
+    """Warn, once per parameter, where a range reaches SLIP_RATIO times the base value."""
+    import warnings
+
+    base = robot.parameters
+    for k, (name, unit) in enumerate(zip(names, units)):
+        b = base[name]
+        if b == 0.0:
+            continue
+        ratio = np.abs(values[:, k] / b)
+        if ratio.max() >= SLIP_RATIO or ratio.min() <= 1.0 / SLIP_RATIO:
+            warnings.warn(f"{name} from {values[:, k].min():.6g} to {values[:, k].max():.6g} "
+                          f"{unit} reaches {ratio.min():.3g} to {ratio.max():.3g} times "
+                          f"{robot.name}'s {b:.6g} {unit}: a unit slip? (sweeps take SI units)",
+                          RuntimeWarning, stacklevel=3)
 
 
 def _check_physical(robot: Robot, names, values: np.ndarray, P: np.ndarray) -> None:
