@@ -11,7 +11,10 @@ help:  ## this list
 
 venv: $(STAMP)  ## virtual environment with the package (editable), derive, test, bench and cluster extras
 
-$(STAMP): pyproject.toml constraints.txt
+# the install compiles the C helpers and the built-in robots (setup.py): again when they change
+$(STAMP): pyproject.toml constraints.txt setup.py planar_sym/model/_fastcall.c \
+		planar_sym/dynamics/_integrate.c planar_sym/motion/_newton.c \
+		$(wildcard generated/*/manifest.json)
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench,cluster]'

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import ctypes
-import fcntl
 import json
 import os
 import shutil
@@ -16,6 +15,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+from filelock import FileLock
 
 from planar_sym.errors import DescriptionError
 from planar_sym.model.description import builtin_robots, load
@@ -44,8 +45,7 @@ def write_atomically(files: dict[str, bytes], target: Path) -> None:
     and hidden leftovers of a killed run are removed under it.
     """
     target.parent.mkdir(parents=True, exist_ok=True)
-    with open(target.parent / f".{target.name}.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    with FileLock(target.parent / f".{target.name}.lock"):
         for stale in target.parent.glob(f".{target.name}.*"):
             if stale.is_dir():
                 shutil.rmtree(stale, ignore_errors=True)

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -243,7 +245,7 @@ def render(model: Model) -> dict[str, bytes]:
                                  "casadi_int": "long long int"})
     for g in gens:
         cg.add(g.function)
-    body = cg.dump()
+    body = _generate(cg, name)
     hash_fn = (f"CASADI_SYMBOL_EXPORT const char *{name}_input_hash(void) "
                f'{{ return "{digest}"; }}\n')
     c_src = (_header_comment(model, f"{name}.c", digest) + body + "\n" + hash_fn + "\n"
@@ -264,8 +266,26 @@ def render(model: Model) -> dict[str, bytes]:
         "equations.md": ("<!--\n" + _text_header(model, "equations.md", digest, " ").rstrip()
                          + "\n-->\n\n" + eq["markdown"]).encode(),
     }
+    files.update({f"{g.quantity}.casadi": _saved(g.function) for g in gens})
     files["manifest.json"] = _manifest(model, gens, digest, files)
     return files
+
+
+def _generate(cg: ca.CodeGenerator, name: str) -> str:
+    """CasADi's own file output, not ``dump()``: only the file carries CasADi's notice (its
+    template code is MIT-0 licensed, the rest not copyrighted), which the generated C keeps."""
+    with tempfile.TemporaryDirectory() as tmp:
+        cg.generate(tmp + os.sep)
+        return (Path(tmp) / f"{name}.c").read_text()
+
+
+def _saved(function: ca.Function) -> bytes:
+    """``Function.save``'s bytes: ``casadi.Function.load`` reads them back without SymPy (the
+    runtime's evaluator when no C compiler is at hand, and a user's ``casadi.Opti``)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "f.casadi"
+        function.save(str(path))
+        return path.read_bytes()
 
 
 def _header(model: Model, gens: list[Generated]) -> str:
@@ -339,6 +359,7 @@ def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> 
         funcs[g.quantity] = {
             "symbol": f.name(),
             "loop": f.name() + "_loop",
+            "casadi": f"{g.quantity}.casadi",
             "doc": g.doc,
             "inputs": [[f.name_in(i), f.size1_in(i) * f.size2_in(i)] for i in range(f.n_in())],
             "outputs": [[f.name_out(i), f.size1_out(i), f.size2_out(i),

@@ -83,7 +83,7 @@ def test_processes_racing_to_build_one_cache(tmp_path):
     go = tmp_path / "go"
     script = tmp_path / "child.py"
     script.write_text(CHILD)
-    env = _env(PLANAR_SYM_CACHE=str(cache))
+    env = _env(PLANAR_SYM_CACHE=str(cache), PLANAR_SYM_PREBUILT="0")  # not the install's
     procs = [subprocess.Popen([sys.executable, str(script), str(go), str(tmp_path / f"r{k}.npz")],
                               env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
              for k in range(PROCESSES)]

@@ -51,6 +51,8 @@ def test_files_match_manifest(robot):
         actual = hashlib.sha256((folder / name).read_bytes()).hexdigest()
         assert actual == digest, f"{folder / name} does not match its manifest sha256: {FIX}"
     for name in listed - {"manifest.json"}:
+        if name.endswith(".casadi"):  # Function.save's format has no comments: the manifest
+            continue  # hashes it, and test_casadi_evaluator compares it with the C
         text = (folder / name).read_text()
         assert m["input_hash"] in text, f"{folder / name} names another input hash: {FIX}"
 

@@ -24,6 +24,6 @@ def run(args) -> int:
         name, folder = locate(robot)
         lib = Library(name, folder)
         if not args.quiet:
-            print(f"{robot}: {lib.path}")
+            print(f"{robot}: {lib.path or 'no C compiler: CasADi evaluator'}")
     progress.done()
     return 0

@@ -23,10 +23,13 @@ from .signals import Signal
 
 
 def _externals(robot: Robot) -> dict:
-    """The robot's compiled functions as CasADi Functions (the library already built)."""
+    """The robot's compiled functions as CasADi Functions (the library already built); with no
+    compiler, the saved functions themselves."""
     import casadi as ca
 
     lib = robot.library
+    if not lib.compiled:
+        return {q: f.function for q, f in lib.functions.items()}
     return {q: ca.external(spec["symbol"], str(lib.path), {"enable_fd": True})
             for q, spec in lib.manifest["functions"].items()}
 

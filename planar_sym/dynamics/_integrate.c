@@ -24,6 +24,10 @@
  * limits, actuator torque and speed limits) are located within a step on the 4th-order dense
  * output by bisection, logged, and stop the run where asked.
  */
+#ifdef PLANAR_SYM_EXTENSION /* built at install by setup.py: Python.h first, as it asks */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#endif
 #include <math.h>
 #include <string.h>
 
@@ -442,3 +446,13 @@ int planar_sym_dopri5(int kind, int n, int m, int n_act, const int *act, const d
     stats[0] = st[0]; stats[1] = st[1]; stats[2] = st[2];
     return rc;
 }
+
+#ifdef PLANAR_SYM_EXTENSION
+/* Installed as an (empty) extension module so that setuptools builds it with the package; the
+ * runtime loads the file with ctypes, after comparing the source hash it was built from. */
+const char *planar_sym_source_hash(void) { return PLANAR_SYM_SOURCE_HASH; }
+
+static struct PyModuleDef planar_sym_module = {PyModuleDef_HEAD_INIT, "_integrate", NULL, -1, NULL};
+
+PyMODINIT_FUNC PyInit__integrate(void) { return PyModule_Create(&planar_sym_module); }
+#endif

@@ -2,8 +2,8 @@
  *
  * One Python call costs a few hundred nanoseconds here (input conversion, the finiteness
  * check naming the bad sample, output allocation, the loop) where the same work written in
- * Python costs microseconds. Compiled on first use by planar_sym/library.py; when it cannot
- * be built (no Python headers) the runtime falls back to ctypes.
+ * Python costs microseconds. Built at install as an extension (setup.py), else compiled on
+ * first use by planar_sym/model/library.py; without either the runtime falls back to ctypes.
  *
  * Loop signature (derive/simd.py): int f(long long n, const double *const *in, double *const *out)
  * with per-sample blocks row-major (n, size) and the shared parameter vector among the inputs.
@@ -347,7 +347,9 @@ done:
 
 static PyMethodDef caller_methods[] = {
     {"designs", (PyCFunction)(void (*)(void))caller_designs, METH_FASTCALL | METH_KEYWORDS,
-     "designs(P, *arrays, reduce=False): the loop once per parameter vector P[d]"},
+     "designs($self, P, /, *arrays, reduce=False)\n--\n\n"
+     "The loop once per parameter vector P[d] (D, n_p), over shared (N, size) or per-design\n"
+     "(D, N, size) inputs; reduce: min, max and mean square per design."},
     {NULL, NULL, 0, NULL}};
 
 static PyObject *caller_get_doc(Caller *self, void *closure) {
@@ -355,8 +357,38 @@ static PyObject *caller_get_doc(Caller *self, void *closure) {
     return Py_NewRef(self->doc ? self->doc : Py_None);
 }
 
-static PyGetSetDef caller_getset[] = {{"__doc__", (getter)caller_get_doc, NULL, NULL, NULL},
-                                      {NULL, NULL, NULL, NULL, NULL}};
+/* inspect.signature(robot.inverse_dynamics) -> (q, qd, qdd): notebooks and IDEs show the
+ * inputs of a C-level caller like those of the Python method it replaces */
+static PyObject *caller_get_signature(Caller *self, void *closure) {
+    (void)closure;
+    PyObject *inspect = PyImport_ImportModule("inspect"), *result = NULL;
+    if (!inspect) return NULL;
+    PyObject *param = PyObject_GetAttrString(inspect, "Parameter");
+    PyObject *sigcls = PyObject_GetAttrString(inspect, "Signature");
+    PyObject *kind = param ? PyObject_GetAttrString(param, "POSITIONAL_OR_KEYWORD") : NULL;
+    PyObject *params = PyList_New(0);
+    if (!sigcls || !kind || !params) goto done;
+    for (Py_ssize_t i = 0; i < PyTuple_GET_SIZE(self->names); ++i) {
+        PyObject *one = PyObject_CallFunctionObjArgs(param, PyTuple_GET_ITEM(self->names, i),
+                                                     kind, NULL);
+        int failed = !one || PyList_Append(params, one) < 0;
+        Py_XDECREF(one);
+        if (failed) goto done;
+    }
+    result = PyObject_CallOneArg(sigcls, params);
+done:
+    Py_XDECREF(params);
+    Py_XDECREF(kind);
+    Py_XDECREF(sigcls);
+    Py_XDECREF(param);
+    Py_DECREF(inspect);
+    return result;
+}
+
+static PyGetSetDef caller_getset[] = {
+    {"__doc__", (getter)caller_get_doc, NULL, NULL, NULL},
+    {"__signature__", (getter)caller_get_signature, NULL, NULL, NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
 
 static PyTypeObject CallerType = {
     PyVarObject_HEAD_INIT(NULL, 0)
@@ -505,9 +537,14 @@ out:
     return result;
 }
 
-static PyMethodDef methods[] = {{"make", make, METH_VARARGS, "make a Caller for a sample loop"},
-                                {"closed_solve", closed_solve, METH_VARARGS,
-                                 "closed-chain torques and multipliers, batched"},
+static PyMethodDef methods[] = {
+    {"make", make, METH_VARARGS,
+     "make($module, address, in_sizes, p_slot, out_specs, p, error, names, doc, /)\n--\n\n"
+     "A Caller for the sample loop at address."},
+    {"closed_solve", closed_solve, METH_VARARGS,
+     "closed_solve($module, b, jac, act, tau_out, lam_out, cond_out, /)\n--\n\n"
+     "Closed-chain torques (N, n_act) and multipliers (N, m), batched, with the condition\n"
+     "number of Phi_p (N,)."},
                                 {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_fastcall", NULL, -1, methods};
@@ -515,5 +552,12 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_fastcall", NULL, -1
 PyMODINIT_FUNC PyInit__fastcall(void) {
     import_array();
     if (PyType_Ready(&CallerType) < 0) return NULL;
-    return PyModule_Create(&module);
+    PyObject *m = PyModule_Create(&module);
+#ifdef PLANAR_SYM_SOURCE_HASH /* built at install (setup.py): the runtime checks it is current */
+    if (m && PyModule_AddStringConstant(m, "SOURCE_HASH", PLANAR_SYM_SOURCE_HASH) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+#endif
+    return m;
 }

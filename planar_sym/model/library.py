@@ -2,15 +2,15 @@
 
 Build policy (documented in the README): the committed C in ``generated/<robot>/`` is compiled on
 first use with ``cc -O3 -fPIC -shared`` into a cache folder keyed by the manifest's input hash
-(``$PLANAR_SYM_CACHE``, else ``$XDG_CACHE_HOME/planar_sym``, else ``~/.cache/planar_sym``).
-The build holds a file lock and renames the finished library into place, so concurrent
+(``$PLANAR_SYM_CACHE``, else the user cache folder of ``platformdirs``: ``~/.cache/planar_sym``
+or ``$XDG_CACHE_HOME/planar_sym`` on Linux, ``~/Library/Caches/planar_sym`` on macOS,
+``%LOCALAPPDATA%\\planar_sym\\Cache`` on Windows). The build holds a file lock (``filelock``) and renames the finished library into place, so concurrent
 processes neither corrupt nor half-read it. ``make build`` does the same ahead of time.
 """
 
 from __future__ import annotations
 
 import ctypes
-import fcntl
 import hashlib
 import json
 import os
@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from filelock import FileLock
 
 from ..errors import InputError, LibraryError
 
@@ -52,10 +53,12 @@ def find_generated(robot: str) -> Path:
 
 
 def cache_dir() -> Path:
+    """Where compiled libraries are kept: ``$PLANAR_SYM_CACHE``, else the user cache folder."""
     if os.environ.get("PLANAR_SYM_CACHE"):
         return Path(os.environ["PLANAR_SYM_CACHE"])
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "planar_sym"
+    from platformdirs import user_cache_dir
+
+    return Path(user_cache_dir("planar_sym", appauthor=False))
 
 
 def read_manifest(folder: Path) -> dict:
@@ -75,11 +78,15 @@ def read_manifest(folder: Path) -> dict:
     return manifest
 
 
+class NoCompiler(LibraryError):
+    """No C compiler to run: the runtime falls back to CasADi's evaluator (``evaluator``)."""
+
+
 def _compiler() -> str:
     cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
     if not cc:
-        raise LibraryError("no C compiler found (set CC, or install gcc): the generated code "
-                           "is compiled on first use")
+        raise NoCompiler("no C compiler found (set CC, or install gcc): the generated code "
+                         "is compiled on first use")
     return cc
 
 
@@ -128,8 +135,7 @@ def compile_shared(sources: list[Path], target: Path, cflags, extra: tuple = (),
         warnings.warn(f"compiled library {target} does not match the hash recorded when it was "
                       "built (truncated or replaced): rebuilding it", RuntimeWarning, stacklevel=3)
     target.parent.mkdir(parents=True, exist_ok=True)
-    with open(target.with_suffix(".lock"), "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    with FileLock(target.with_suffix(".lock")):
         if _intact(target) and not force:
             return target
         with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
@@ -166,16 +172,34 @@ def _run(cmd: list[str], src: Path) -> None:
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
     except OSError as exc:
-        raise LibraryError(f"cannot run the C compiler {cmd[0]!r} ({exc.strerror}): install "
-                           "gcc, or set CC to a C compiler") from None
+        raise NoCompiler(f"cannot run the C compiler {cmd[0]!r} ({exc.strerror}): install "
+                         "gcc, or set CC to a C compiler") from None
     if proc.returncode != 0:
         raise LibraryError(f"compiling {src} failed ({' '.join(cmd)}):\n{proc.stderr}")
 
 
+#: the built-in robots' libraries, compiled when the package was installed (setup.py), named
+#: as library_path names them
+PREBUILT = _DIR / "prebuilt"
+
+
+def _prebuilt(folder: Path, path: Path) -> Path | None:
+    """The library of that name built at install for a built-in robot, if there and intact
+    (a copied or user folder compiles into the cache, where its own problems show)."""
+    if (os.environ.get("PLANAR_SYM_PREBUILT") == "0"  # compile into the cache regardless
+            or folder.resolve().parent not in builtin_generated_dirs()):
+        return None
+    pre = PREBUILT / path.name
+    return pre if _intact(pre) else None
+
+
 def build(folder: Path, manifest: dict, force: bool = False) -> Path:
-    """Compile ``<robot>.c`` (exact: -O3, no fast math) unless this hash is built already."""
-    return compile_shared([folder / f"{manifest['robot']}.c"], library_path(folder, manifest),
-                          CFLAGS, force=force)
+    """Compile ``<robot>.c`` (exact: -O3, no fast math) unless this hash is built already (at
+    install, or in the cache)."""
+    path = library_path(folder, manifest)
+    if not force and (pre := _prebuilt(folder, path)):
+        return pre
+    return compile_shared([folder / f"{manifest['robot']}.c"], path, CFLAGS, force=force)
 
 
 def build_simd(folder: Path, manifest: dict, force: bool = False) -> Path | None:
@@ -183,8 +207,10 @@ def build_simd(folder: Path, manifest: dict, force: bool = False) -> Path | None
     src = folder / f"{manifest['robot']}_simd.c"
     if not src.exists():
         return None
-    return compile_shared([src], library_path(folder, manifest, "simd"), SIMD_CFLAGS,
-                          force=force)
+    path = library_path(folder, manifest, "simd")
+    if not force and (pre := _prebuilt(folder, path)):
+        return pre
+    return compile_shared([src], path, SIMD_CFLAGS, force=force)
 
 
 _FASTCALL = None
@@ -198,12 +224,37 @@ def fastcall():
     return _FASTCALL or None
 
 
+def installed_extension(src: Path) -> Path | None:
+    """The file setup.py built from ``src`` at install, if it is there (beside the source)."""
+    import importlib.machinery
+
+    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+        path = src.with_name(src.stem + suffix)
+        if path.is_file():
+            return path
+    return None
+
+
+def source_hash(src: Path) -> str:
+    """The hash setup.py records in what it builds from ``src``."""
+    return hashlib.sha256(src.read_bytes()).hexdigest()[:16]
+
+
 def _build_fastcall():
     import importlib.machinery
     import importlib.util
     import sysconfig
 
     src = _DIR / "_fastcall.c"
+    built = installed_extension(src)
+    if built is not None:
+        try:
+            from . import _fastcall
+
+            if getattr(_fastcall, "SOURCE_HASH", None) == source_hash(src):
+                return _fastcall
+        except ImportError:  # built for another interpreter or numpy: compile it below
+            pass
     try:
         import numpy
 
@@ -299,7 +350,21 @@ class Library:
         if self.manifest.get("robot") != robot:
             raise LibraryError(f"{self.folder / 'manifest.json'} is for robot "
                                f"{self.manifest.get('robot')!r}, not {robot!r}: run `make derive`")
-        self.path = build(self.folder, self.manifest)
+        specs = {q: FunctionSpec(f["symbol"], tuple(map(tuple, f["inputs"])),
+                                 tuple(map(tuple, f["outputs"])))
+                 for q, f in self.manifest["functions"].items()}
+        try:
+            self.path = build(self.folder, self.manifest)
+        except NoCompiler as exc:
+            if not all("casadi" in f for f in self.manifest["functions"].values()):
+                raise  # a folder derived before the saved functions: nothing to fall back on
+            from .evaluator import CasadiFunction, no_compiler_warning
+
+            no_compiler_warning(robot, str(exc).split(" (")[0])
+            self.path, self.lib, self.simd = None, None, None
+            self.functions = {q: CasadiFunction(self.folder / self.manifest["functions"][q]
+                                                ["casadi"], spec) for q, spec in specs.items()}
+            return
         try:
             self.lib = self._load(self.path)
         except CorruptLibrary as exc:  # truncated or overwritten cache file: build it anew
@@ -323,13 +388,18 @@ class Library:
                 simd_path = build_simd(self.folder, self.manifest, force=True)
                 self.simd = self._load(_fresh_name(simd_path), f"{robot}_simd_input_hash",
                                        private_copy=True)
-        self.functions = {
-            q: BatchFunction(self.lib, FunctionSpec(
-                f["symbol"], tuple(map(tuple, f["inputs"])), tuple(map(tuple, f["outputs"]))))
-            for q, f in self.manifest["functions"].items()}
+        self.functions = {q: BatchFunction(self.lib, spec) for q, spec in specs.items()}
+
+    @property
+    def compiled(self) -> bool:
+        """False where no C compiler was at hand: CasADi's evaluator runs the functions."""
+        return self.lib is not None
 
     def address(self, quantity: str) -> int:
-        """Address of ``<robot>_<quantity>_batch`` in the exact library (for C callers)."""
+        """Address of ``<robot>_<quantity>_batch`` in the exact library (for C callers); with
+        CasADi's evaluator, a callback of the same signature."""
+        if self.lib is None:
+            return self.functions[quantity].address
         symbol = self.manifest["functions"][quantity]["symbol"] + "_batch"
         return ctypes.cast(getattr(self.lib, symbol), ctypes.c_void_p).value
 
@@ -385,8 +455,19 @@ class SingleCall:
 
 
 def load_helper(src: Path) -> ctypes.CDLL:
-    """A robot-independent C helper (an integrator, a Newton loop), compiled once per source
-    hash into the cache and loaded; a corrupt cached copy is rebuilt and loaded privately."""
+    """A robot-independent C helper (an integrator, a Newton loop): the one built at install
+    (setup.py) while its source is unchanged, else compiled once per source hash into the cache
+    and loaded; a corrupt cached copy is rebuilt and loaded privately."""
+    built = installed_extension(src)
+    if built is not None:
+        try:
+            lib = ctypes.CDLL(str(built))
+            get = lib.planar_sym_source_hash
+            get.restype = ctypes.c_char_p
+            if get().decode() == source_hash(src):
+                return lib
+        except (OSError, AttributeError):  # not loadable here, or stale: compile it below
+            pass
     key = hashlib.sha256(src.read_bytes() + " ".join(CFLAGS).encode()).hexdigest()[:12]
     target = cache_dir() / f"{src.stem}-{key}.so"
     try:

@@ -19,6 +19,10 @@
  *
  * Predictor: extrapolation in time of the last solutions (see predict).
  */
+#ifdef PLANAR_SYM_EXTENSION /* built at install by setup.py: Python.h first, as it asks */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#endif
 #include <math.h>
 #include <string.h>
 
@@ -269,3 +273,13 @@ int planar_sym_ik_newton(int n, int m, int nt, const double *p, void *task, void
     info[4] = (double)pr.halvings;
     return rc;
 }
+
+#ifdef PLANAR_SYM_EXTENSION
+/* Installed as an (empty) extension module so that setuptools builds it with the package; the
+ * runtime loads the file with ctypes, after comparing the source hash it was built from. */
+const char *planar_sym_source_hash(void) { return PLANAR_SYM_SOURCE_HASH; }
+
+static struct PyModuleDef planar_sym_module = {PyModuleDef_HEAD_INIT, "_newton", NULL, -1, NULL};
+
+PyMODINIT_FUNC PyInit__newton(void) { return PyModule_Create(&planar_sym_module); }
+#endif
