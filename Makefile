@@ -4,12 +4,12 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: help venv derive derive-check build test test-fast demo bench lint clean
+.PHONY: help venv derive derive-check build browser test test-fast demo bench docs lint clean
 
 help:  ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/'
 
-venv: $(STAMP)  ## virtual environment with the package (editable), derive, test, bench and cluster extras
+venv: $(STAMP)  ## virtual environment with the package (editable) and every extra
 
 # the install compiles the C helpers and the built-in robots (setup.py): again when they change
 $(STAMP): pyproject.toml constraints.txt setup.py planar_sym/model/_fastcall.c \
@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml constraints.txt setup.py planar_sym/model/_fastcall.c \
 		$(wildcard generated/*/manifest.json)
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench,cluster]'
+	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench,cluster,docs,notebook]'
 	touch $@
 
 derive: $(STAMP)  ## re-derive every built-in robot into generated/ (deterministic, atomic)
@@ -29,8 +29,11 @@ derive-check: $(STAMP)  ## re-derive only robots whose generated/ is stale
 build: $(STAMP)  ## compile the generated C of every robot into the cache
 	$(PY) -m planar_sym build
 
-test: $(STAMP)  ## the whole test suite
-	$(PY) -m pytest -q
+browser:  ## Debian's Chromium, for the page test (does nothing when it is there; needs root)
+	.ci/install-browser
+
+test: $(STAMP) browser  ## the whole test suite (the browser test must run, not skip)
+	PLANAR_SYM_REQUIRE_BROWSER=1 $(PY) -m pytest -q
 
 test-fast: $(STAMP)  ## tests without the slow re-derivation checks
 	$(PY) -m pytest -q -m "not slow"
@@ -41,8 +44,11 @@ demo: derive-check build  ## every scenario, animation and robot drawing into re
 bench: $(STAMP)  ## benchmarks vs Pinocchio, MuJoCo, lambdify and a C floor -> BENCHMARKS.md (~3 min)
 	$(PY) -m benchmarks
 
+docs: $(STAMP)  ## the API reference, rendered from the docstrings, into site/ (mkdocs --strict)
+	$(PY) -m mkdocs build --strict --site-dir site
+
 lint: $(STAMP)  ## ruff on the sources (generated/ excluded)
 	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests benchmarks examples
 
 clean:  ## remove build outputs (not the committed generated/)
-	rm -rf build dist *.egg-info results .pytest_cache
+	rm -rf build dist *.egg-info results .pytest_cache site

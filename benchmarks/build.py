@@ -133,6 +133,21 @@ def run(cfg: Config) -> Section:
     keys = [k for k in fns if k != "trivial"]
     all_c = Stats(tuple(sum(st[k].values[i] for k in keys) for i in range(cfg.build_repeats)))
     per_robot = {n: sum(st[k].median for k in keys if k[0] == n) for n in cfg.build_robots}
+    from .first_use import evaluator_cost, first_torque
+
+    table, first = first_torque(cfg)
+    sec.tables.append(table)
+    st = first["stats"]
+    compiled = max(st[k].median for k in st if k != "import" and k[1] == "compiled on first use")
+    sec.headlines["first torque"] = (
+        f"First torque of a fresh install, empty cache, whole process: **{first['first'].median:.3g} s**"
+        f" at worst ({first['worst']}; `import planar_sym` alone {st['import'].median:.3g} s), "
+        f"with the libraries compiled at install; {compiled:.3g} s when compiled on first use")
+    table, batch, single = evaluator_cost(cfg)
+    sec.tables.append(table)
+    sec.headlines["no compiler"] = (
+        f"Without a C compiler (CasADi's evaluator): the same numbers, **{batch:.3g}x** slower per "
+        f"sample in batches and **{single:.3g}x** per step of a simulation (medians over robots)")
     sec.headlines["compile"] = (
         f"Compiling {len(cfg.build_robots)} robot(s) from scratch (every flavour a first use "
         f"builds): **{all_c.median:.3g} s** [{all_c.min:.3g}-{all_c.max:.3g}] in total; per "

@@ -37,12 +37,14 @@ __all__ = [
     "controller",
     "cubic",
     "equations",
+    "export",
     "from_actuated",
     "inverse_kinematics",
     "load",
     "load_study",
     "plot",
     "run_study",
+    "show",
     "simulate",
     "simulate_controlled",
     "studies",
@@ -61,7 +63,8 @@ _LAZY = {"simulate": ("dynamics.forward", "simulate"),
          "validate": ("analysis.validate", "run_all"),
          "simulate_controlled": ("control.loop", "simulate_controlled"),
          "controller": ("control.laws", "controller"),
-         "sweep": ("analysis.sweep", "sweep"), "atlas": ("analysis.atlas", "atlas")}
+         "sweep": ("analysis.sweep", "sweep"), "atlas": ("analysis.atlas", "atlas"),
+         "show": ("outputs.notebook", "show"), "export": ("outputs.export", "write")}
 
 
 def __getattr__(name: str):
@@ -72,3 +75,19 @@ def __getattr__(name: str):
         module, attr = _LAZY[name]
         return getattr(importlib.import_module(f".{module}", __name__), attr)
     raise AttributeError(f"module 'planar_sym' has no attribute {name!r}")
+
+
+def _notebook_display() -> None:
+    """Inside IPython (Jupyter, ``ipython``), show Robot, Result and Simulation as HTML
+    (``outputs.notebook``); elsewhere nothing is imported for it."""
+    import sys
+
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if hasattr(ipython, "get_ipython") else None
+    if shell is not None and hasattr(shell, "display_formatter"):
+        from .outputs.notebook import register
+
+        register(shell)
+
+
+_notebook_display()

@@ -106,7 +106,8 @@ def test_processes_racing_to_build_one_cache(tmp_path):
     assert sorted(f[:-len(".sha256")] for f in files if f.endswith(".sha256")) == libraries
     kinds = sorted(f.split("-")[0] + ("-simd" if f.endswith("-simd.so") else "")
                    for f in libraries)
-    assert kinds == sorted(["_fastcall", "_integrate", "five_bar_type1", "five_bar_type1-simd",
+    # the C helpers (_fastcall, _integrate, _newton) come from the install, not the cache
+    assert kinds == sorted(["five_bar_type1", "five_bar_type1-simd",
                             "serial_2dof", "serial_2dof-simd"]), files
 
 

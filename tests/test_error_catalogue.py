@@ -63,7 +63,8 @@ DESC, ARRAYS, TRAJ, SIM, FILES, CLI = ("Robot descriptions", "Runtime arrays and
 STUDY, LOOPS = "Study files", "Closed chains off their loops, passive joints"
 CONTROL = "Control in the loop"
 DESIGN = "Atlases and sweeps"
-AREAS = (DESC, ARRAYS, TRAJ, SIM, LOOPS, CONTROL, DESIGN, STUDY, FILES, CLI)
+EXCHANGE = "Export to other engines, result files"
+AREAS = (DESC, ARRAYS, TRAJ, SIM, LOOPS, CONTROL, DESIGN, STUDY, EXCHANGE, FILES, CLI)
 
 
 class CommandFailed(Exception):
@@ -119,8 +120,11 @@ class Ctx:
         return path
 
     def private_cache(self) -> Path:
+        """An empty cache, with the libraries the install compiled set aside: the built-in
+        robots then compile into it like any robot."""
         cache = self.tmp / "cache"
         self.monkeypatch.setenv("PLANAR_SYM_CACHE", str(cache))
+        self.monkeypatch.setenv("PLANAR_SYM_PREBUILT", "0")
         return cache
 
     def generated_copy(self, robot: str = "serial_2dof") -> Path:
@@ -975,15 +979,47 @@ def _reference_torques(q, qd, qdd) -> np.ndarray:
                             m12 * qdd[:, 0] + delta * qdd[:, 1] + h2 + g2])
 
 
-@bad(FILES, "no C compiler (none on PATH, CC unset), empty cache", LibraryError,
-     r"no C compiler found \(set CC, or install gcc\): the generated code is compiled on first "
-     r"use",
-     "no C compiler found (set CC, or install gcc): the generated code is compiled on first use")
+@bad(FILES, "no C compiler (none on PATH, CC unset), empty cache: the robot runs on CasADi's "
+     "evaluator, and its torques are right", Warned,
+     r"\Aserial_2dof: no C compiler found; running on CasADi's own evaluator instead: the same "
+     r"numbers, about 20x slower in batches and 700x in simulations and inverse kinematics "
+     r"\(install gcc, or set CC to a C compiler, for compiled speed\)\Z",
+     "serial_2dof: no C compiler found; running on CasADi's own evaluator instead: the same "
+     "numbers, about 20x slower in batches and 700x in simulations and inverse kinematics "
+     "(install gcc, or set CC to a C compiler, for compiled speed)",
+     see="tests/test_casadi_evaluator.py")
 def no_compiler(ctx):
     ctx.private_cache()
     ctx.monkeypatch.delenv("CC", raising=False)
     ctx.monkeypatch.setenv("PATH", str(ctx.tmp / "empty"))
-    Library("serial_2dof", folder=GENERATED / "serial_2dof")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = Robot("serial_2dof", Library("serial_2dof", folder=GENERATED / "serial_2dof"))
+    assert not robot.library.compiled
+    rng = np.random.default_rng(8)
+    q, qd, qdd = (rng.uniform(-2, 2, (20, 2)) for _ in range(3))
+    np.testing.assert_allclose(robot.inverse_dynamics(q, qd, qdd),
+                               _reference_torques(q, qd, qdd), rtol=1e-12, atol=1e-14)
+    (shown,) = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    raise Warned(str(shown.message))
+
+
+@bad(FILES, "no C compiler, and a generated folder made before the functions were saved for "
+     "CasADi (no `<quantity>.casadi`)", LibraryError,
+     r"no C compiler found \(set CC, or install gcc\): the generated code is compiled on first "
+     r"use",
+     "no C compiler found (set CC, or install gcc): the generated code is compiled on first use")
+def no_compiler_old_folder(ctx):
+    ctx.private_cache()
+    folder = ctx.generated_copy()
+    manifest = json.loads((folder / "manifest.json").read_text())
+    for spec in manifest["functions"].values():
+        (folder / spec.pop("casadi")).unlink()
+    manifest["files"] = {k: v for k, v in manifest["files"].items() if not k.endswith(".casadi")}
+    (folder / "manifest.json").write_text(json.dumps(manifest))
+    ctx.monkeypatch.delenv("CC", raising=False)
+    ctx.monkeypatch.setenv("PATH", str(ctx.tmp / "empty"))
+    Library("serial_2dof", folder=folder)
 
 
 @bad(FILES, "a compiler that fails (`CC=false`), empty cache", LibraryError,
@@ -1905,6 +1941,61 @@ def control_other_plant(ctx):
                         plant=ps.load("serial_3dof"))
 
 
+# -- export and result files ---------------------------------------------------------------------
+TE = "tests/test_export.py"
+
+
+@bad(EXCHANGE, "`planar-sym export serial_2dof --format sdf`", CommandFailed,
+     r"--format must be mjcf or urdf \(got 'sdf'\)",
+     "error: --format must be mjcf or urdf (got 'sdf')", see=TE)
+def export_format(ctx):
+    _cli(ctx, "export", "serial_2dof", "--format", "sdf", "--out", str(ctx.tmp / "r.xml"))
+
+
+@bad(EXCHANGE, "`planar-sym export serial_2dof --out r.sdf` (a suffix that names no format)",
+     CommandFailed, r"--out .*r\.sdf: cannot tell the format from the suffix '\.sdf'; give "
+                    r"--format mjcf or urdf",
+     "error: --out r.sdf: cannot tell the format from the suffix '.sdf'; give --format mjcf or "
+     "urdf (or name the file .xml or .urdf)", see=TE)
+def export_suffix(ctx):
+    _cli(ctx, "export", "serial_2dof", "--out", str(ctx.tmp / "r.sdf"))
+
+
+@bad(EXCHANGE, "`planar-sym export five_bar_type1 --format urdf` (a closed chain)", CommandFailed,
+     r"five_bar_type1 is a closed chain \(cut joint C\): URDF describes trees only.*export "
+     r"MJCF instead",
+     "error: five_bar_type1 is a closed chain (cut joint C): URDF describes trees only, and no "
+     "loop extension of it is read by the common parsers, so its spanning tree would load as a "
+     "different mechanism; export MJCF instead (--format mjcf, or to_mjcf), which keeps every "
+     "cut joint as an equality constraint", see=TE)
+def export_urdf_closed(ctx):
+    _cli(ctx, "export", "five_bar_type1", "--format", "urdf", "--out", str(ctx.tmp / "f.urdf"))
+
+
+@bad(EXCHANGE, "`planar-sym export serial_2dof --out missing/r.xml` (no such folder)",
+     CommandFailed, r"--out .*missing/r\.xml: its folder .*missing does not exist; create it "
+                    r"first",
+     "error: --out missing/r.xml: its folder missing does not exist; create it first", see=TE)
+def export_missing_folder(ctx):
+    _cli(ctx, "export", "serial_2dof", "--out", str(ctx.tmp / "missing" / "r.xml"))
+
+
+@bad(EXCHANGE, "exporting a robot with actuator models (`examples/serial_2dof_geared.toml`)",
+     Warned, r"serial_2dof_geared: actuator figures jm_joint1, fv_joint1, fc_joint1, jm_joint2 "
+             r"are not exported \(MJCF and URDF have no exact equivalent\)",
+     "serial_2dof_geared: actuator figures jm_joint1, fv_joint1, fc_joint1, jm_joint2 are not "
+     "exported (MJCF and URDF have no exact equivalent): the file holds the rigid bodies only",
+     see=TE)
+def export_actuators(ctx):
+    robot = ps.load(ROOT / "examples" / "serial_2dof_geared.toml")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        path = ps.export(robot, ctx.tmp / "geared.xml")
+    assert path.stat().st_size > 0
+    (shown,) = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    raise Warned(str(shown.message))
+
+
 # -- atlases and sweeps ---------------------------------------------------------------------------
 @bad(DESIGN, "an atlas region with its ends reversed: `x_range=(0.1, -0.1)`", InputError,
      r"x_range = \(0\.1, -0\.1\) m: the minimum must be below the maximum",
@@ -2161,7 +2252,8 @@ def test_known_bug_truncated_library_crashes_the_process(tmp_path):
     built = build(folder, read_manifest(folder))
     script = tmp_path / "truncated.py"
     script.write_text(TRUNCATED)
-    env = dict(os.environ, PLANAR_SYM_CACHE=str(tmp_path / "cache"), PYTHONPATH=str(ROOT))
+    env = dict(os.environ, PLANAR_SYM_CACHE=str(tmp_path / "cache"), PYTHONPATH=str(ROOT),
+               PLANAR_SYM_PREBUILT="0")  # the cache's copy, not the install's
     res = subprocess.run([sys.executable, str(script), str(folder), str(built)], env=env,
                          capture_output=True, text=True, timeout=120, check=False)
     assert res.returncode == 0, f"exit code {res.returncode} (-7: SIGBUS)\n{res.stderr[-500:]}"
@@ -2173,6 +2265,7 @@ def test_known_bug_corrupt_simd_library_is_not_rebuilt(tmp_path, monkeypatch):
     manifest = read_manifest(folder)
     exact = build(folder, manifest)
     monkeypatch.setenv("PLANAR_SYM_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("PLANAR_SYM_PREBUILT", "0")  # the cache's copies, not the install's
     (tmp_path / "cache").mkdir()
     shutil.copyfile(exact, library_path(folder, manifest))
     library_path(folder, manifest, "simd").write_bytes(b"garbage" * 100)
@@ -2202,10 +2295,14 @@ def test_known_bug_corrupt_integrator_library(tmp_path, monkeypatch):
 
 
 def test_known_bug_cc_names_a_missing_compiler(tmp_path, monkeypatch):
+    """CC naming no program: the warning that switches to CasADi's evaluator names it."""
     monkeypatch.setenv("PLANAR_SYM_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("PLANAR_SYM_PREBUILT", "0")
     monkeypatch.setenv("CC", str(tmp_path / "no_such_cc"))
-    with pytest.raises(LibraryError, match="no_such_cc"):
-        Library("serial_2dof", folder=GENERATED / "serial_2dof")
+    with pytest.warns(RuntimeWarning, match=r"cannot run the C compiler '.*no_such_cc'; running "
+                                            r"on CasADi's own evaluator"):
+        lib = Library("serial_2dof", folder=GENERATED / "serial_2dof")
+    assert not lib.compiled
 
 
 def test_known_bug_constant_torque_of_wrong_length():

@@ -81,3 +81,19 @@ def test_own_robot_with_a_serial_robot(tmp_path):
                cwd=tmp_path, env={"PLANAR_SYM_CACHE": str(tmp_path / "cache")}).stdout
     assert "peak |tau2|" in out and "M11 =" in out
     assert [p.name for p in tmp_path.iterdir()] == ["cache"]  # its temp folder is gone
+
+
+def test_opti_example_on_the_saved_casadi_functions(tmp_path):
+    """casadi.Opti on mass_matrix, bias and constraint as Function.save wrote them: the optimal
+    torques replayed in planar-sym's own simulation reach the goal within RK4's error (which
+    shrinks about 16x when the intervals double: 4th order), and the Opti pose on Phi = 0 is
+    the inverse kinematics' pose."""
+    misses = []
+    for n in ("40", "80"):
+        out = _run("opti_min_effort.py", "--intervals", n, cwd=tmp_path).stdout
+        misses.append(float(re.search(r"misses the goal by (\S+) rad", out).group(1)))
+        ik_gap = float(re.search(r"IK by (\S+) rad", out).group(1))
+        assert ik_gap < 1e-8
+        assert float(re.search(r"peak \|tau\| (\S+) N\*m", out).group(1)) > 0.05
+    assert misses[1] < 2e-3 and misses[0] / misses[1] > 4, misses  # seen: 6.4e-3, 8.7e-4
+    assert list(tmp_path.iterdir()) == []

@@ -153,9 +153,9 @@ DRIVER = textwrap.dedent("""
 
     def write_bytes(self, data):
         n = real_write(self, data)
-        if self.parent.name.startswith("."):  # into a temporary folder
+        if self.parent.name.startswith(f".{robots[1]}."):  # the second robot's temporary folder
             writes[0] += 1
-            if mode == "writing" and writes[0] == 10:  # the second robot's third file
+            if mode == "writing" and writes[0] == 3:  # its third file
                 os.kill(os.getpid(), sig)
         return n
 

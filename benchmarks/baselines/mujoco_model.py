@@ -1,13 +1,17 @@
-"""A MuJoCo model (MJCF written here) of a description's spanning tree, for mj_inverse and RK4.
+"""A MuJoCo model of a description's spanning tree, for mj_inverse and RK4.
 
-Construction, generic over the description (the spanning tree; with ``loops=True`` each
-revolute loop joint becomes a ``connect`` equality constraint between two sites, see below):
+The MJCF text comes from the package's writer, ``planar_sym.outputs.export_mjcf.mjcf`` (the
+one ``planar-sym export --format mjcf`` uses), fed the description's own values and without the
+user file's header comment, visual geoms and motors. Construction (detailed there), generic
+over the description (the spanning tree; with ``loops=True`` each revolute loop joint becomes
+a ``connect`` equality constraint between two sites, see below):
 
 * every description body becomes an MJCF body whose frame *is* that body's frame, so MuJoCo's
   ``qpos`` equals planar_sym's ``q`` (child frame angle minus parent frame angle);
 * a revolute joint: child body at ``parent_point - child_point`` in the parent's frame (the
   drawn configuration, where q = 0 means "aligned with the parent"), ``hinge`` at the child
-  point, axis z; a weld: a joint-less child body, rotated by the drawn relative angle;
+  point, axis z; a prismatic joint a ``slide`` along its axis; a weld: a joint-less child
+  body, rotated by the drawn relative angle;
 * ``inertial``: mass, ``pos`` = centre of gravity, ``diaginertia = izz/2, izz/2, izz``. MuJoCo
   demands ``ixx + iyy >= izz`` (triangle inequality), so tiny ixx/iyy are refused; a thin
   lamina's ``izz/2`` each satisfy it and never enter the dynamics (every angular velocity is
@@ -26,15 +30,11 @@ only approximately; the constraint and equality flags stay enabled in that model
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from planar_sym.model.description import GROUND, Description
-
-
-def _v(*xs: float) -> str:
-    return " ".join(repr(float(x)) for x in xs)
+from planar_sym.model.description import Description
+from planar_sym.outputs import export_mjcf
+from planar_sym.outputs.export_model import from_description
 
 
 def mjcf(desc: Description, *, timestep: float = 1e-3, loops: bool = False,
@@ -42,65 +42,10 @@ def mjcf(desc: Description, *, timestep: float = 1e-3, loops: bool = False,
          solimp: tuple[float, ...] | None = None) -> str:
     """The MJCF text of the description's spanning tree; with ``loops``, its loop joints as
     ``connect`` equality constraints (``solref``/``solimp``: MuJoCo's softness, default
-    MuJoCo's own)."""
-    sites: dict[str, list[str]] = {}
-    equalities: list[str] = []
-    if loops:
-        for j in desc.loop_joints:
-            if j.type != "revolute":
-                raise NotImplementedError(f"{desc.name}: loop joint {j.name} is {j.type}; only "
-                                          "revolute loop joints are modelled (connect)")
-            for side, body, point in (("a", j.parent, j.parent_point),
-                                      ("b", j.child, j.child_point)):
-                x, y = desc.bodies[body].points_m[point]
-                sites.setdefault(body, []).append(
-                    f'<site name="{j.name}_{side}" pos="{_v(x, y, 0)}"/>')
-            extra = ""
-            if solref is not None:
-                extra += f' solref="{_v(*solref)}"'
-            if solimp is not None:
-                extra += f' solimp="{_v(*solimp)}"'
-            equalities.append(f'    <connect name="{j.name}" site1="{j.name}_a" '
-                              f'site2="{j.name}_b"{extra}/>')
-    children: dict[str, list[str]] = {}
-    bodies: dict[str, str] = {}  # body name -> opening tag with inertial and joint
-    for j in desc.tree_joints:
-        parent, child = desc.bodies[j.parent], desc.bodies[j.child]
-        px, py = parent.points_m[j.parent_point]
-        cx, cy = child.points_m[j.child_point]
-        if j.type == "revolute":
-            rel = 0.0
-            joint = f'<joint name="{j.name}" type="hinge" pos="{_v(cx, cy, 0)}" axis="0 0 1"/>'
-        else:
-            rel = child.drawn_angle_rad - parent.drawn_angle_rad
-            joint = ""
-        c, s = math.cos(rel), math.sin(rel)
-        pos = (px - (c * cx - s * cy), py - (s * cx + c * cy), 0.0)
-        quat = (math.cos(rel / 2), 0.0, 0.0, math.sin(rel / 2))
-        izz = child.izz_kg_m2
-        inertial = (f'<inertial pos="{_v(*child.cg_m, 0)}" mass="{child.mass_kg!r}" '
-                    f'diaginertia="{_v(izz / 2, izz / 2, izz)}"/>')
-        bodies[j.child] = (f'<body name="{j.child}" pos="{_v(*pos)}" quat="{_v(*quat)}">'
-                           f"{joint}{inertial}" + "".join(sites.get(j.child, ())))
-        children.setdefault(j.parent, []).append(j.child)
-
-    def emit(name: str, depth: int) -> list[str]:
-        pad = "  " * depth
-        lines = [pad + bodies[name]]
-        for ch in children.get(name, []):
-            lines += emit(ch, depth + 1)
-        return lines + [pad + "</body>"]
-
-    gx, gy = desc.gravity_m_s2
-    tree = [line for ch in children.get(GROUND, []) for line in emit(ch, 3)]
-    tree += ["      " + site for site in sites.get(GROUND, ())]  # ground's frame is the world
-    return "\n".join([
-        f'<mujoco model="{desc.name}">',
-        '  <compiler angle="radian" inertiafromgeom="false"/>',
-        f'  <option gravity="{_v(gx, gy, 0)}" timestep="{timestep!r}" integrator="RK4"/>',
-        "  <worldbody>", *tree, "  </worldbody>",
-        *(["  <equality>", *equalities, "  </equality>"] if equalities else []),
-        "</mujoco>", ""])
+    MuJoCo's own). Written by the package's MJCF writer (``planar_sym.outputs.export_mjcf``)
+    from the description's own values, without the user file's header, geoms and motors."""
+    return export_mjcf.mjcf(from_description(desc), timestep=timestep, loops=loops,
+                            solref=solref, solimp=solimp)
 
 
 def build(desc: Description, *, timestep: float = 1e-3, loops: bool = False,

@@ -74,6 +74,18 @@ class Atlas:
     length_scale_m, reach_box_m, time_s
         L_c (m); the reach bound's box (x_min, x_max, y_min, y_max) (m, None with sliders on
         every leg); the time the atlas took (s).
+    robot : str
+        The robot's name.
+    coordinates, coordinate_units : tuple of str
+        The robot's coordinates and their units ("rad" or "m"): the last axis of ``q``.
+    actuated : tuple of int
+        The actuated coordinates (0-based): the last axis of the torque maps.
+    task_names : tuple of str
+        The task coordinates mapped (x, y, and phi where the task has one).
+    n_constraints : int
+        Loop equations of the robot (0 for a tree).
+    start_drawing : dict
+        The start pose as lines (m), as ``stick`` returns it, to draw over the maps.
     """
 
     robot: str
@@ -148,7 +160,12 @@ class Atlas:
         }
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """Every array, named with its unit, as ``to_npz`` writes them."""
+        """Every array, named with its unit, as ``to_npz`` writes them.
+
+        Shapes as the attributes' (maps (nphi, ny, nx[, ...]), ``x_m`` (nx,), ...), SI units
+        in the names (``x_m``, ``phi_rad``, ``accel_m_s2``); ``q`` in rad (m at a slider),
+        the torque maps in ``actuator_units``.
+        """
         return {"x_m": self.x_m, "y_m": self.y_m, "phi_rad": self.phi_rad, "q": self.q,
                 "reachable": self.reachable, "same_assembly": self.same_assembly,
                 "det_type1": self.det_type1, "det_type2": self.det_type2, "type1": self.type1,
@@ -163,7 +180,12 @@ class Atlas:
 
     def table(self) -> tuple[list[str], np.ndarray]:
         """Long format, one row per cell: column names with units, and the (cells, columns)
-        values (x_mm, y_mm[, phi_deg], reachable, same_assembly, q..., measures, torques)."""
+        values (x_mm, y_mm[, phi_deg], reachable, same_assembly, q..., measures, torques).
+
+        Units as the names say: positions in mm and angles in deg (for reading), coordinates
+        ``q<k>_rad`` (``_m`` at a slider), torques ``_n_m`` (N*m) or ``_n`` (N); the measures
+        (type1, type2, dexterity) are dimensionless.
+        """
         nphi, ny, nx = self.reachable.shape
         P, Y, X = np.meshgrid(self.phi_rad if len(self.phi_rad) else [0.0], self.y_m, self.x_m,
                               indexing="ij")
@@ -304,7 +326,11 @@ def _maps(robot: Robot, q: np.ndarray, L: float, accel: float, q_ref: np.ndarray
 
 
 def stick(robot: Robot, q: np.ndarray) -> dict:
-    """The pose as lines (m): per body its joints (and the task point), in drawing order."""
+    """The pose as lines (m): per body its joints (and the task point), in drawing order.
+
+    ``q`` (n,) is the pose (rad; m at a slider). Returns ``"bodies"`` (a list of (k, 2)
+    point arrays), ``"ground"`` (k, 2), ``"joints"`` (joints, 2) and ``"task"`` (2,), in m.
+    """
     joints = robot.library.manifest["joints"]
     zeros = np.zeros((1, robot.n))
     pts = np.asarray(robot.body_motion(q[None], zeros, zeros)[2]).reshape(2, -1).T

@@ -48,7 +48,13 @@ class SweepResult:
     """The sweep's table: ``columns`` (name -> (D,) array, units in the names), the varied
     parameters first (``varied``, the columns of the parameters named in ``parameters``),
     then the figures; ``failed`` maps a design's index to why it has no figures (NaN in its
-    row); ``route`` says how the designs were evaluated."""
+    row); ``route`` says how the designs were evaluated.
+
+    Values are SI, the unit in each column's name (``m_link2_kg``, ``a2_m``, ``peak_tau1_n_m`` in
+    N*m, ``max_abs_e1_rad`` in rad, ``final_work_j`` in J); ``D`` is the
+    number of designs. ``study`` names the study swept; ``note`` sums the run up (designs,
+    sampling, route, failures).
+    """
 
     study: str
     columns: dict[str, np.ndarray]
@@ -63,6 +69,7 @@ class SweepResult:
 
     @property
     def figures(self) -> tuple[str, ...]:
+        """The names of the figure columns (every column but the varied parameters')."""
         return tuple(k for k in self.columns if k not in self.varied)
 
     def csv_text(self) -> str:
@@ -77,6 +84,7 @@ class SweepResult:
         return "\n".join(lines) + "\n"
 
     def write_csv(self, path: str | os.PathLike) -> Path:
+        """Write ``csv_text()`` to ``path``, whole or not at all; returns the path."""
         from ..files import atomic_files
 
         path = Path(path)

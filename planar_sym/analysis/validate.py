@@ -41,6 +41,23 @@ TOL_RATES = 1e-6  # passive qd, qdd against differences of the Newton-solved q(t
 
 @dataclass(frozen=True)
 class Row:
+    """One line of the validation table (``planar-sym validate``, ``planar_sym.validate``).
+
+    Attributes
+    ----------
+    check : str
+        What was checked, e.g. "(c) energy drift, free motion 1 s".
+    worst : float or None
+        The worst figure found (a relative error, or the loop residual in m); None when the
+        check was skipped, inf when it raised.
+    tolerance : float or None
+        What ``worst`` must not exceed to pass (same unit).
+    status : str
+        ``"pass"``, ``"FAIL"`` or ``"skipped"``.
+    detail : str
+        Where the worst figure was, or why the check was skipped or failed.
+    """
+
     check: str
     worst: float | None  # the worst figure; None when skipped
     tolerance: float | None
@@ -49,6 +66,7 @@ class Row:
 
 
 def row(check: str, worst: float, tol: float, detail: str = "") -> Row:
+    """A Row that passes when ``worst`` is finite and at most ``tol``, else fails."""
     ok = math.isfinite(worst) and worst <= tol
     return Row(check, worst, tol, "pass" if ok else "FAIL", detail)
 
@@ -66,6 +84,8 @@ def rel_err(a, b, peak: bool = False) -> float:
 
 
 def random_states(robot: Robot, samples: int, seed: int):
+    """Random states drawn with ``seed``, each of shape (samples, n): q uniform in [-pi, pi]
+    (rad); qd (rad/s), qdd (rad/s^2) and tau (N*m) uniform in [-3, 3]."""
     rng = np.random.default_rng(seed)
     q = rng.uniform(-np.pi, np.pi, (samples, robot.n))
     qd, qdd, tau = (rng.uniform(-3, 3, (samples, robot.n)) for _ in range(3))
@@ -94,6 +114,9 @@ def find_description(robot: Robot, given: Path | None = None) -> Path | None:
 
 def check_symbolic(robot: Robot, description: Path | None = None, samples: int = 20,
                    seed: int = 1) -> Row:
+    """(a) Every output of every compiled function (and of the fast loops) against the SymPy
+    model derived again from the description, at ``samples`` random states; skipped without
+    SymPy or without a description file."""
     name = f"(a) compiled vs SymPy, {samples} random states"
     try:
         import sympy  # noqa: F401  (explicitly: derive may already be imported)
@@ -198,7 +221,10 @@ def _diff(f, x: np.ndarray, direction: np.ndarray) -> np.ndarray:
 
 def mass_from_energy(robot: Robot, q: np.ndarray) -> np.ndarray:
     """M(q) from the kinetic energy alone: T = qd^T M qd / 2, so by polarisation at unit rates
-    M_ii = 2 T(e_i) and M_ij = T(e_i + e_j) - T(e_i) - T(e_j); exact up to rounding."""
+    M_ii = 2 T(e_i) and M_ij = T(e_i + e_j) - T(e_i) - T(e_j); exact up to rounding.
+
+    ``q`` (N, n) in rad; returns M, shape (N, n, n), in kg*m^2.
+    """
     n, eye = robot.n, np.eye(robot.n)
     t_of = {(i, j): robot.energy(q, np.broadcast_to(eye[i] + eye[j] * (i != j), q.shape))[0]
             for i in range(n) for j in range(i, n)}
@@ -209,7 +235,11 @@ def mass_from_energy(robot: Robot, q: np.ndarray) -> np.ndarray:
 
 
 def lagrange_from_energy(robot: Robot, q, qd, qdd) -> dict[str, np.ndarray]:
-    """M, g = dV/dq, h and tau = d/dt dL/dqd - dL/dq, from the compiled energy function."""
+    """M, g = dV/dq, h and tau = d/dt dL/dqd - dL/dq, from the compiled energy function.
+
+    ``q``, ``qd``, ``qdd`` (N, n) in rad, rad/s, rad/s^2; returns ``"M"`` (N, n, n) in
+    kg*m^2 and ``"g"``, ``"h"``, ``"tau"`` (N, n) in N*m.
+    """
     eye = np.eye(robot.n)
     M = mass_from_energy(robot, q)
     dT = np.column_stack([_diff(lambda x: robot.energy(x, qd)[0], q, e) for e in eye])
@@ -228,6 +258,8 @@ def compiled_paths(robot: Robot) -> list[tuple[str, Robot]]:
 
 
 def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
+    """(b) The compiled M, g, h, tau (and forward dynamics with its Jacobian) against
+    Lagrange's equations by finite differences of the compiled energy alone."""
     q, qd, qdd, _ = random_states(robot, samples, seed)
     ref = lagrange_from_energy(robot, q, qd, qdd)
     fns = robot.library.functions
@@ -316,6 +348,8 @@ def check_null_space(robot: Robot, traj: dict) -> Row:
 
 
 def check_constraints(robot: Robot, traj: dict, sim=None) -> list[Row]:
+    """(e) Closed chains: the loop residual along the motion ``traj`` (and the free motion
+    ``sim``'s drift), and the passive rates against differences of the solved positions."""
     j = traj[0]
     phi = float(np.max(np.abs(robot.constraint(j.q))))
     where = "along the motion of (d)"
@@ -345,6 +379,7 @@ def free_motion(robot: Robot, seconds: float = 1.0):
 
 
 def check_energy(sim) -> Row:
+    """(c) The free motion's relative energy drift (``Simulation.energy_drift``)."""
     return row(f"(c) energy drift, free motion {sim.t_s[-1]:g} s", sim.energy_drift, TOL_ENERGY,
                f"relative; peak kinetic energy {np.max(sim.kinetic_j):.3g} J")
 

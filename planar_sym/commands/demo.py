@@ -1,4 +1,5 @@
-"""``planar-sym demo``: every built-in study, animation and robot drawing, with an index README.md."""
+"""``planar-sym demo``: every built-in study, animation and robot drawing, with an index README.md
+and a page index.html (``outputs.html_index``) that shows them all, offline."""
 
 from __future__ import annotations
 
@@ -49,10 +50,13 @@ def run(args) -> int:
     for robot in robots:
         save_drawing(robot, out / f"{robot}.png")
         progress(f"{robot}: {robot}.png")
-    index = out / "README.md"
-    with atomic_files([index]) as (tmp,):
+    from ..outputs.html_index import index_html
+
+    index, page = out / "README.md", out / "index.html"
+    with atomic_files([index, page]) as (tmp, tmp_page):  # both indexes or neither
         tmp.write_text(index_text(results, robots))
-    progress(f"index: {index}")
+        tmp_page.write_text(index_html(results, robots, out), encoding="utf-8")
+    progress(f"index: {index}, {page.name}")
     return 0
 
 

@@ -18,6 +18,9 @@ def register(sub) -> None:
                    help="evenly spaced samples, overriding the study's (2 to 1000000)")
     p.add_argument("--split", action="store_true",
                    help="also plot each torque split into M qdd, C qd and g (STUDY_split.png)")
+    p.add_argument("--npz", action="store_true",
+                   help="also write STUDY.npz: the CSV's columns as float64 arrays (bit for bit), "
+                        "with the study's and robot's names")
     p.set_defaults(fn=run)
 
 
@@ -34,7 +37,8 @@ def run(args) -> int:
     check_out(args.out)
     studies = [load_study(r) for r in refs]  # every file checked before anything runs
     for st in studies:
-        report(write_study(st, args.out, args.samples, args.split), st.name, args.quiet)
+        report(write_study(st, args.out, args.samples, args.split, npz=args.npz), st.name,
+               args.quiet)
     return 0
 
 
@@ -50,14 +54,16 @@ def check_out(out: Path) -> None:
         raise InputError(f"--out {out} is a file, not a folder")
 
 
-def write_study(st, out: Path, samples: int | None = None, split: bool = False):
-    """Run one study and write what its [outputs] asks for; returns (result, paths)."""
+def write_study(st, out: Path, samples: int | None = None, split: bool = False,
+                npz: bool = False):
+    """Run one study and write what its [outputs] asks for (and ``STUDY.npz`` with ``npz``);
+    returns (result, paths)."""
     from ..outputs.results import write
     from ..study.run import run as run_study
 
     result = run_study(st, samples)
     o = st.outputs
-    paths = write(result, out, split=split or o.split, csv=o.csv, plot=o.plot)
+    paths = write(result, out, split=split or o.split, csv=o.csv, plot=o.plot, npz=npz)
     if o.animation:
         paths.append(animate_study(st, out / f"{st.name}.{o.animation}", o.frames))
     return result, paths

@@ -28,7 +28,22 @@ ACTIONS = ("stop", "continue")
 @dataclass(frozen=True)
 class EventSpec:
     """One event function: kind (above), index (coordinate, or actuator for kind 2),
-    value (SI), whether it stops the run, and its name in reports."""
+    value (SI), whether it stops the run, and its name in reports.
+
+    Attributes
+    ----------
+    kind : int
+        0 lower joint limit, 1 upper joint limit, 2 actuator torque (force) limit, 3 joint
+        speed limit (the module's table).
+    index : int
+        The coordinate (0-based), or for kind 2 the actuator (position in ``actuated``).
+    value : float
+        The limit in SI: rad or m (kinds 0, 1), N*m or N (2), rad/s or m/s (3).
+    stop : bool
+        Whether the run stops when the event fires.
+    name : str
+        What is reported, e.g. "joint joint2 reached its upper limit 3.05 rad (175 deg)".
+    """
 
     kind: int
     index: int
@@ -39,7 +54,8 @@ class EventSpec:
 
 @dataclass(frozen=True)
 class Event:
-    """An event that happened: its name, time (s), and whether the run stopped there."""
+    """An event that happened: its ``name``, time ``time_s`` (s), and whether the run
+    ``stopped`` there."""
 
     name: str
     time_s: float
@@ -75,7 +91,10 @@ def joint_limit_events(robot, limits: dict, action: str) -> list[EventSpec]:
 
 def actuator_events(robot, action: str) -> tuple[list[EventSpec], np.ndarray]:
     """Events for every actuator limit the description gives, and the joint-side torque bound
-    per actuated coordinate (inf where none): what saturation clips at."""
+    per actuated coordinate (inf where none): what saturation clips at.
+
+    Returns the event specs and the bounds, shape (actuated,), in N*m (N at a slider).
+    """
     _check_action("on_actuator_limit", action)
     params = robot.parameters
     out, bound = [], np.full(len(robot.actuated), np.inf)

@@ -39,7 +39,21 @@ MAX_GAIN = 1e9
 
 @dataclass(frozen=True)
 class Controller:
-    """A control law and its gains, one per actuated coordinate (SI)."""
+    """A control law and its gains, one per actuated coordinate (SI).
+
+    Make one with ``controller`` (which checks the gains).
+
+    Attributes
+    ----------
+    kind : str
+        ``"pd"``, ``"computed_torque"`` or ``"none"`` (the module's table).
+    kp, kd : tuple of float
+        Proportional and derivative gains per actuated coordinate (one value: every joint):
+        N*m/rad and N*m*s/rad for PD (N/m, N*s/m at a slider), 1/s^2 and 1/s for computed
+        torque (``gain_units``); empty for "none".
+    saturate : bool
+        Whether the commanded torques are clipped at the actuator limits of the description.
+    """
 
     kind: str
     kp: tuple[float, ...] = ()
@@ -48,6 +62,7 @@ class Controller:
 
     @property
     def mode(self) -> int:
+        """The law's number in the compiled loop (``MODE``: 0 none, 1 PD, 2 computed torque)."""
         return MODE[self.kind]
 
     def gain_units(self, unit: str) -> tuple[str, str]:

@@ -52,7 +52,37 @@ class ControlledRun:
     actuated coordinates the reference ``q_ref``, ``qd_ref`` (N, actuated), the commanded
     torques ``tau_cmd`` and the applied (saturated) ones ``tau`` (N*m or N); the plant's
     energies, the actuators' work ``work_j`` = int tau . qd dt and the friction loss
-    ``friction_j`` = int D(qd) . qd dt, both integrated with the state (J)."""
+    ``friction_j`` = int D(qd) . qd dt, both integrated with the state (J).
+
+    Attributes
+    ----------
+    t_s : ndarray, shape (N,)
+        Output times (s).
+    q, qd : ndarray, shape (N, n)
+        The plant's coordinates (rad; m at a slider) and rates (rad/s; m/s).
+    q_ref, qd_ref : ndarray, shape (N, actuated)
+        The reference and its rate on the actuated coordinates (rad, rad/s).
+    tau_cmd, tau : ndarray, shape (N, actuated)
+        Commanded and applied (saturated) torques (N*m; N at a slider).
+    kinetic_j, potential_j : ndarray, shape (N,)
+        The plant's kinetic and potential energy (J).
+    work_j, friction_j : ndarray, shape (N,)
+        The actuators' work and the friction loss since the start (J).
+    actuated : tuple of int
+        The actuated coordinates (0-based): the columns of ``q_ref``, ``tau``, ...
+    controller : Controller
+        The control law and gains that ran.
+    method : str
+        The integrator (``"dopri5"``, ``"cvodes"``, ``"idas"``).
+    rtol, atol : float
+        Its tolerances (atol in the state's SI units).
+    n_rhs : int
+        Evaluations of the closed-loop dynamics it made.
+    events : tuple of Event
+        What happened along the run (joint limits, actuator limits, assembly changes).
+    constraint_drift_m : float
+        Closed chains: the largest loop residual max |Phi| over the run (m); 0 for a tree.
+    """
 
     t_s: np.ndarray
     q: np.ndarray
@@ -81,11 +111,13 @@ class ControlledRun:
 
     @property
     def error(self) -> np.ndarray:
-        """Tracking error q_ref - q on the actuated coordinates (N, actuated)."""
+        """Tracking error q_ref - q on the actuated coordinates (N, actuated), rad (m at a
+        slider)."""
         return self.q_ref - self.q[:, list(self.actuated)]
 
     @property
     def energy_j(self) -> np.ndarray:
+        """The plant's total energy kinetic + potential (J), shape (N,)."""
         return self.kinetic_j + self.potential_j
 
     @property
@@ -348,7 +380,11 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
 def assembly_changes(robot: Robot, t: np.ndarray, q: np.ndarray) -> list[Event]:
     """A closed chain that passes through a singular pose of its passive joints (det Phi_p = 0,
     where the actuators lose control of it) may come out in another assembly mode: found as a
-    sign change of det Phi_p between output samples, reported with the two times."""
+    sign change of det Phi_p between output samples, reported with the two times.
+
+    ``t`` (N,) are the output times (s), ``q`` (N, n) every coordinate there (rad; m at a
+    slider).
+    """
     act, n, m = list(robot.actuated), robot.n, robot.n_constraints
     pas = [i for i in range(n) if i not in act]
     jac = robot.constraint_jacobian(q).reshape(len(q), m, n)

@@ -37,6 +37,9 @@ class Signal:
 
     ``knots_s`` (N,) increasing; ``coefficients`` (N-1, channels, degree+1), ascending powers
     of ``t - knots_s[k]`` on segment k. Outside the knots the end segments extend.
+
+    Times are in s; values in each channel's SI unit u (rad or m for a reference, N*m or N
+    for input torques), so coefficient j is in u/s^j.
     """
 
     knots_s: np.ndarray
@@ -44,14 +47,17 @@ class Signal:
 
     @property
     def channels(self) -> int:
+        """Number of channels (functions of time)."""
         return self.coefficients.shape[1]
 
     @property
     def degree(self) -> int:
+        """Polynomial degree of the segments (0 hold, 1 linear, 3 cubic, 5 quintic)."""
         return self.coefficients.shape[2] - 1
 
     @property
     def span_s(self) -> tuple[float, float]:
+        """First and last knot (s)."""
         return float(self.knots_s[0]), float(self.knots_s[-1])
 
     def __call__(self, t, derivative: int = 0) -> np.ndarray:

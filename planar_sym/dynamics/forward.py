@@ -26,6 +26,7 @@ from .integrate import (
     Torque,
     check_tolerances,
     dopri5,
+    labels,
     time_grid,
     torque_function,
 )
@@ -43,6 +44,39 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     with them (else InputError; ``project=True`` solves the passive joints from the actuated
     ones instead and reports ``initial_correction_rad``).
     Returns the state at ``t_eval`` (default: 1001 evenly spaced times), with energies.
+
+    Parameters
+    ----------
+    robot : Robot
+    q0, qd0 : array_like, shape (n,)
+        Initial coordinates (rad; m at a slider) and rates (rad/s; m/s), every coordinate.
+    t_span : (float, float)
+        Start and end time (s).
+    torque : None, array_like of shape (actuated,), or callable
+        Zero, constant torques (N*m; N at a slider), or ``f(t)`` returning them (t in s).
+    t_eval : array_like, shape (N,), optional
+        Output times (s), increasing, inside ``t_span``.
+    rtol, atol : float
+        Relative and absolute tolerances of the integrator (atol in the state's SI units).
+    method : str
+        ``"dopri5"`` (C, default), or a SciPy ``solve_ivp`` method (``"DOP853"``,
+        ``"Radau"``, ...).
+    max_steps : int
+        Step limit of the C integrator.
+    project : bool
+        Closed chains: solve the passive joints of ``q0``, ``qd0`` from the actuated ones.
+
+    Returns
+    -------
+    Simulation
+        ``t_s`` (N,), ``q``, ``qd`` (N, n), torques and energies (J) per sample.
+
+    Raises
+    ------
+    InputError
+        Bad shapes, values, tolerances or method.
+    SimulationError
+        The integrator failed (naming the time).
     """
     if not isinstance(robot, Robot):
         raise InputError(f"simulate needs a Robot (planar_sym.load), got {type(robot).__name__}")
@@ -62,7 +96,7 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         q, qd = y[:, :n].copy(), y[:, n:].copy()
         kin, pot = robot.energy(q, qd)
         return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
-                          rtol, atol, n_rhs)
+                          rtol, atol, n_rhs, **labels(robot))
     method = "DOP853" if method == "dopri5" else method
     if method in ("cvodes", "idas"):
         raise InputError(f"method {method!r} (SUNDIALS) runs in the compiled loop: "
@@ -101,7 +135,7 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
     kin, pot = robot.energy(q, qd)
     taus = np.array([tau_of(tt) for tt in t])
-    return Simulation(t, q, qd, taus, kin, pot, method, rtol, atol, count[0])
+    return Simulation(t, q, qd, taus, kin, pot, method, rtol, atol, count[0], **labels(robot))
 
 
 def _on_actuated(tau_of, robot: Robot):

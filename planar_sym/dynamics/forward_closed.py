@@ -9,7 +9,14 @@ from ..errors import InputError, SimulationError
 from ..model.library import SingleCall
 from ..model.robot import Robot, as_vector
 from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, partition, solve_passive
-from .integrate import SCIPY_METHODS, Simulation, dopri5, time_grid, torque_function
+from .integrate import (
+    SCIPY_METHODS,
+    Simulation,
+    dopri5,
+    labels,
+    time_grid,
+    torque_function,
+)
 
 
 def project(robot: Robot, q, qd) -> tuple[np.ndarray, np.ndarray]:
@@ -145,7 +152,7 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     kin, pot = robot.energy(qa, qda)
     taus = np.array([tau_of(tt) for tt in t])
     return Simulation(t, qa, qda, taus, kin, pot, method, rtol, atol, count[0], drift,
-                      correction)
+                      correction, **labels(robot))
 
 
 def kkt_accelerations(robot: Robot, q, qd, tau_act) -> np.ndarray:

@@ -2,8 +2,9 @@
 
 Every generated folder holds each function as ``Function.save`` wrote it (``<quantity>.casadi``).
 Loaded with ``casadi.Function.load`` (no SymPy, no compiler), it gives the same numbers as the
-compiled C (the same expression graph; tested to 1e-13), slower: about 70x per sample in
-batches, and about 1000x for single samples, where the Python call dominates (``make bench``).
+compiled C (the same expression graph; tested to 1e-12), slower: about 20x per sample in
+batches, and about 700x per step of a simulation or a Newton loop, which calls back into Python
+once per step (``make bench``, section 3).
 
 Batches evaluate through CasADi's column mapping (inputs with N columns). The C helpers that
 take function pointers (the DOPRI5 integrator, the Newton loop) get a ctypes callback with the
@@ -21,16 +22,18 @@ import numpy as np
 
 from ..errors import LibraryError
 
-#: measured by ``make bench`` (section "build"): the evaluator against the compiled C
-SLOWER_BATCH, SLOWER_SINGLE = 70, 1000
+#: measured by ``make bench`` (section 3): the evaluator against the compiled C, per sample in
+#: batches (14-21x) and per right-hand side of a simulation (670-850x)
+SLOWER_BATCH, SLOWER_STEP = 20, 700
 
 
 def no_compiler_warning(robot: str, reason: str) -> None:
     """One line: what runs instead of the compiled C, what it costs, how to get it back."""
     warnings.warn(
-        f"{robot}: {reason}; running on CasADi's own evaluator instead, the same numbers about "
-        f"{SLOWER_BATCH}x slower in batches and {SLOWER_SINGLE}x per single sample (install gcc, "
-        "or set CC to a C compiler, for compiled speed)", RuntimeWarning, stacklevel=4)
+        f"{robot}: {reason}; running on CasADi's own evaluator instead: the same numbers, about "
+        f"{SLOWER_BATCH}x slower in batches and {SLOWER_STEP}x in simulations and inverse "
+        "kinematics (install gcc, or set CC to a C compiler, for compiled speed)",
+        RuntimeWarning, stacklevel=4)
 
 
 class CasadiFunction:

@@ -35,6 +35,21 @@ def _when(t, k: int) -> str:
 
 @dataclass(frozen=True)
 class Parameter:
+    """One physical parameter of a robot, as its generated manifest lists it.
+
+    Attributes
+    ----------
+    name : str
+        Its name in ``Robot.parameters`` and ``with_parameters`` (``m_link1``, ``izz_link1``,
+        ``g``, ...).
+    value : float
+        The value the robot was derived with, in SI (``unit``).
+    unit : str
+        Its SI unit: ``"kg"``, ``"m"``, ``"kg*m^2"``, ``"m/s^2"``, ...
+    meaning : str
+        What it is, in words ("mass of link1").
+    """
+
     name: str
     value: float
     unit: str
@@ -43,7 +58,11 @@ class Parameter:
 
 def as_vector(name: str, a, width: int) -> np.ndarray:
     """``a`` as one finite float64 vector of ``width`` values: (width,) or (1, width) only,
-    never the first row of several (a second initial state is a mistake to report)."""
+    never the first row of several (a second initial state is a mistake to report).
+
+    Units are the caller's (the values are not converted: SI throughout the package); a bad
+    shape or a non-finite value raises InputError naming ``name``. Returns shape (width,).
+    """
     arr = as_samples(name, a, width)
     if len(arr) != 1:
         raise InputError(f"{name} must be one vector of {width} values, got {len(arr)} rows "
@@ -52,7 +71,12 @@ def as_vector(name: str, a, width: int) -> np.ndarray:
 
 
 def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> np.ndarray:
-    """``a`` as a C-contiguous float64 (N, width) array; names the first bad sample."""
+    """``a`` as a C-contiguous float64 (N, width) array; names the first bad sample.
+
+    ``a`` is (N, width) or (width,) (one sample); its values are kept as given (SI
+    throughout the package, not converted). ``times`` (N,), in s, lets the error name the
+    time of a non-finite sample too.
+    """
     try:
         raw = np.asarray(a)
         complex_ = np.iscomplexobj(raw)
@@ -80,7 +104,58 @@ def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> 
 
 
 class Robot:
-    """Compiled dynamics of one robot; parameters are an input vector, changeable at will."""
+    """Compiled dynamics of one robot; parameters are an input vector, changeable at will.
+
+    Load one with ``planar_sym.load`` (which compiles on first use and caches); the
+    constructor is for a generated folder's ``Library`` at hand.
+
+    Parameters
+    ----------
+    name : str
+        A built-in robot's name (its generated folder), when ``library`` is not given.
+    library : Library, optional
+        The generated code and its manifest (``model.library``).
+    parameters : ndarray, shape (len(parameter_list),), optional
+        Parameter values in SI (kg, m, kg*m^2, m/s^2), in ``parameter_list`` order; default
+        the values the robot was derived with. Checked as ``with_parameters`` checks them.
+    exact : bool, optional
+        True: CasADi's per-sample functions, compiled without fast math; False: the
+        vectorised C callers; None (default): exact only if ``PLANAR_SYM_EXACT=1``.
+
+    Attributes
+    ----------
+    name, title : str
+        The robot's name and its description's title.
+    coordinates : tuple of str
+        The coordinates' names, in the order of every array's last axis (n).
+    coordinate_units : tuple of str
+        ``"rad"`` (revolute) or ``"m"`` (prismatic) per coordinate; the matching torque is in
+        N*m or N.
+    actuated : tuple of int
+        The actuated coordinates (0-based); the columns of closed-chain torques (actuated,).
+    actuators : tuple of dict
+        Per actuated coordinate: ``joint``, ``coordinate``, ``unit``, ``gear_ratio`` and the
+        limits in SI (``torque_limit``, ``motor_torque_limit``, ``motor_speed_limit_rad_s``;
+        None where there is none).
+    task_names : tuple of str
+        The task coordinates (``x``, ``y`` in m, ``phi`` in rad), empty without a task point.
+    body_names : tuple of str
+        The moving bodies, in the order of ``frames`` and ``body_motion``.
+    n_constraints : int
+        Number of loop equations, two per cut joint (0 for a tree).
+    loops : tuple of str
+        The cut joints of a closed chain, one per loop.
+    q_drawn : ndarray, shape (n,)
+        The drawn configuration (rad, m for a slider): the description's own pose.
+    parameter_list : tuple of Parameter
+        Every parameter: name, SI value as derived, unit and meaning.
+    p : ndarray, shape (len(parameter_list),)
+        The parameter values the compiled functions use (SI), read in place on every call.
+    exact : bool
+        Whether the exact per-sample path is used (see ``exact`` above).
+    library : Library
+        The generated folder, its manifest and the compiled functions.
+    """
 
     def __init__(self, name: str, library: Library | None = None,
                  parameters: np.ndarray | None = None, exact: bool | None = None):
@@ -160,6 +235,8 @@ class Robot:
 
     @property
     def n(self) -> int:
+        """Number of coordinates n (passive joints of closed chains included): the last axis
+        of q, qd, qdd and tau."""
         return len(self.coordinates)
 
     @property
@@ -186,11 +263,43 @@ class Robot:
 
     @property
     def is_closed_chain(self) -> bool:
+        """Whether the robot has loops (cut joints): then ``closed_chain_inverse_dynamics``,
+        not ``inverse_dynamics``."""
         return self.n_constraints > 0
 
     @property
     def parameters(self) -> dict[str, float]:
+        """Name -> value (SI, the unit in ``parameter_list``) of every parameter, as used."""
         return {par.name: float(v) for par, v in zip(self.parameter_list, self.p)}
+
+    def casadi_function(self, quantity: str):
+        """One of the robot's functions as a ``casadi.Function`` (saved at derive time with
+        ``Function.save``), for ``casadi.Opti``, integrators or your own graphs: no SymPy and no
+        compiler needed. Symbolic (``MX``/``SX``) or numeric inputs, one sample as columns.
+
+        Parameters
+        ----------
+        quantity : str
+            A key of ``library.manifest["functions"]``: ``"mass_matrix"`` (q, p) -> M (n, n),
+            ``"bias"`` (q, qd, p) -> h (n,), ``"constraint"`` (q, p) -> Phi (m,) in m,
+            ``"inverse_dynamics"``, ``"task"``, ... Inputs are q (n,) in rad or m, qd in rad/s
+            or m/s, qdd in rad/s^2 or m/s^2, and p (n_p,) the parameter vector (SI, ``self.p``).
+
+        Returns
+        -------
+        casadi.Function
+        """
+        import casadi as ca
+
+        functions = self.library.manifest["functions"]
+        if quantity not in functions:
+            raise InputError(f"{self.name} has no function {quantity!r}; it has: "
+                             f"{', '.join(functions)}")
+        saved = functions[quantity].get("casadi")
+        if saved is None:
+            raise InputError(f"{self.library.folder} was derived before functions were saved "
+                             "for CasADi: derive it again (`make derive`, or planar-sym derive)")
+        return ca.Function.load(str(self.library.folder / saved))
 
     def with_parameters(self, **values: float) -> Robot:
         """A copy with some parameters changed (SI units), no re-derivation needed.
@@ -198,6 +307,17 @@ class Robot:
         The new values pass the description's physical checks (``model.parameters``): positive
         masses, plausible inertias, finite values, a plausible gravity; else InputError names
         the parameter and the value.
+
+        Parameters
+        ----------
+        **values : float
+            Parameter name -> new value in SI (kg, m, kg*m^2, m/s^2: the ``unit`` of its
+            ``parameter_list`` entry), e.g. ``m_motor2=0.5``.
+
+        Returns
+        -------
+        Robot
+            The same compiled code with the new parameter vector ``p``.
         """
         names = [par.name for par in self.parameter_list]
         p = self.p.copy()
@@ -251,7 +371,28 @@ class Robot:
     def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
         """Joint torques (N*m) of a serial (tree) robot, shape (N, n), one compiled call.
 
-        q : ndarray, shape (N, n), rad; qd : rad/s; qdd : rad/s^2.
+        tau = M(q) qdd + C(q, qd) qd + g(q). Every joint must be actuated; a closed chain
+        uses ``closed_chain_inverse_dynamics``.
+
+        Parameters
+        ----------
+        q : ndarray, shape (N, n) or (n,)
+            Joint coordinates (rad; m for a prismatic joint).
+        qd : ndarray, shape (N, n) or (n,)
+            Joint rates (rad/s; m/s).
+        qdd : ndarray, shape (N, n) or (n,)
+            Joint accelerations (rad/s^2; m/s^2).
+
+        Returns
+        -------
+        tau : ndarray, shape (N, n), or (n,) for one sample
+            Joint torques (N*m; N at a prismatic joint).
+
+        Raises
+        ------
+        InputError
+            A closed chain, a passive joint, a bad shape or a non-finite value (naming the
+            sample).
         """
         if self.is_closed_chain:
             raise InputError(f"{self.name} is a closed chain: use closed_chain_inverse_dynamics "
@@ -280,6 +421,22 @@ class Robot:
         loops (``LOOP_TOL_M``, see ``check_on_loops``) raises InputError, and a pose where the
         passive-joint constraint Jacobian Phi_p is singular (1-norm condition number above
         COND_LIMIT) raises WorkspaceError, each naming the sample (and the time ``t``, s).
+
+        Parameters
+        ----------
+        q, qd, qdd : ndarray, shape (N, n) or (n,)
+            Every coordinate (rad; m at a slider), its rate (rad/s) and acceleration
+            (rad/s^2), passive joints included.
+        t : ndarray, shape (N,), optional
+            Times (s), only to name the time of a refused sample.
+
+        Returns
+        -------
+        tau : ndarray, shape (N, actuated)
+            Torques at the actuated coordinates (N*m; N at a slider), in ``actuated`` order.
+        lam : ndarray, shape (N, 2 * loops)
+            Force (N, world x and y per cut joint, in ``loops`` order) the cut joint's child
+            body exerts on its parent body.
         """
         if not self.is_closed_chain:
             raise InputError(f"{self.name} is not a closed chain: use inverse_dynamics")
@@ -293,7 +450,20 @@ class Robot:
 
     def refuse_singular(self, cond: np.ndarray, t=None) -> None:
         """Refuse the first sample whose passive-joint constraint Jacobian Phi_p has a 1-norm
-        condition number ``cond`` above COND_LIMIT (or not finite), naming it."""
+        condition number ``cond`` above COND_LIMIT (or not finite), naming it.
+
+        Parameters
+        ----------
+        cond : ndarray, shape (N,)
+            Condition numbers (dimensionless), one per sample.
+        t : ndarray, shape (N,), optional
+            Times (s), to name the time of the sample refused.
+
+        Raises
+        ------
+        WorkspaceError
+            At the first singular sample.
+        """
         bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
         if bad.any():
             k = int(np.argmax(bad))
@@ -312,6 +482,20 @@ class Robot:
             |Phi_q qdd - gamma|    <= LOOP_TOL_M (1 + max|qd|^2 + max|qdd|)   (m/s^2)
 
         (rates in rad/s, accelerations in rad/s^2: the allowance grows with the terms' size)
+
+        Parameters
+        ----------
+        phi, phi_v, phi_a : ndarray, shape (N, 2 * loops)
+            The residuals Phi (m), Phi_q qd (m/s) and Phi_q qdd - gamma (m/s^2).
+        qd, qdd : ndarray, shape (N, n)
+            Rates (rad/s) and accelerations (rad/s^2), which scale the allowances.
+        t : ndarray, shape (N,), optional
+            Times (s), to name the time of the sample refused.
+
+        Raises
+        ------
+        InputError
+            At the first sample off the loops, naming the residual and the cut joint.
         """
         if all(r.size == 0 or max(r.max(), -r.min()) <= LOOP_TOL_M for r in (phi, phi_v, phi_a)):
             return  # every sample within the smallest allowance: one pass per array, no rows
@@ -340,7 +524,11 @@ class Robot:
         return tuple(r[k] for k in ("tau", "lambda", "cond", "phi", "phi_v", "phi_a"))
 
     def forward_dynamics(self, q, qd, tau) -> np.ndarray:
-        """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2."""
+        """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2.
+
+        ``q`` (rad), ``qd`` (rad/s) and ``tau`` (N*m, every coordinate: 0 at a passive joint)
+        are each (N, n) or (n,); a closed chain is simulated with ``planar_sym.simulate``.
+        """
         if self.is_closed_chain:
             raise InputError(f"{self.name} is a closed chain: use planar_sym.simulate, which "
                              "keeps the loop constraints")
@@ -353,7 +541,25 @@ class Robot:
         return self._out(r["kinetic"], s), self._out(r["potential"], s)
 
     def task(self, q, qd=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Task coordinates x (m, rad), Jacobian J = dx/dq and Jdot qd at each sample."""
+        """Task coordinates x (m, rad), Jacobian J = dx/dq and Jdot qd at each sample.
+
+        Parameters
+        ----------
+        q : ndarray, shape (N, n) or (n,)
+            Coordinates (rad; m for a slider).
+        qd : ndarray, shape (N, n) or (n,), optional
+            Rates (rad/s), default zero (then Jdot qd is zero).
+
+        Returns
+        -------
+        x : ndarray, shape (N, n_task)
+            Task coordinates in ``task_names`` order: x, y of the task point (m), and the
+            orientation phi (rad) where the task has one.
+        J : ndarray, shape (N, n_task, n)
+            The task Jacobian dx/dq (m/rad, or rad/rad for phi).
+        jdot_qd : ndarray, shape (N, n_task)
+            dJ/dt qd (m/s^2, rad/s^2): the task acceleration at zero joint acceleration.
+        """
         if not self.task_names:
             raise InputError(f"{self.name} has no task point (its description has no [task]): "
                              "give [task] point = 'body.point' for task coordinates and moves")
@@ -398,11 +604,14 @@ class Robot:
         return self._out(r["phi"], s)
 
     def constraint_jacobian(self, q) -> np.ndarray:
+        """Loop-closure Jacobian Phi_q = dPhi/dq (m/rad; m/m at a slider), shape
+        (N, 2 * loops, n)."""
         r, s = self._call("constraint_jacobian", q=q)
         return self._out(r["phi_q"], s)
 
     def constraint_bias(self, q, qd) -> np.ndarray:
-        """gamma = -(Phi_q qd)_q qd, so that Phi_q qdd = gamma."""
+        """gamma = -(Phi_q qd)_q qd, so that Phi_q qdd = gamma: shape (N, 2 * loops), m/s^2
+        (``q`` in rad, ``qd`` in rad/s, each (N, n))."""
         r, s = self._call("constraint_bias", q=q, qd=qd)
         return self._out(r["gamma"], s)
 

@@ -20,7 +20,11 @@ NEWTON_MAX_ITER = 30
 
 
 def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    """Indices of the actuated and passive coordinates; checks the chain is fully actuated."""
+    """Indices of the actuated and passive coordinates; checks the chain is fully actuated.
+
+    Returns two integer arrays, shapes (actuated,) and (n - actuated,); InputError unless the
+    actuated joints and the loop equations together fix every coordinate.
+    """
     act = np.array(robot.actuated, dtype=int)
     pas = np.array([i for i in range(robot.n) if i not in robot.actuated], dtype=int)
     if len(act) + robot.n_constraints != robot.n:
@@ -48,6 +52,10 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
 
     Sample by sample, each started from the previous solution: continuation keeps the
     assembly mode (the first sample starts from ``q_guess``, default the drawn configuration).
+
+    ``q_act`` (N, actuated) holds the actuated coordinates (rad; m at a slider), ``q_guess``
+    (n,) a start pose, ``t`` (N,) the times (s) to name in an error. Returns every coordinate,
+    shape (N, n), in rad (m). Raises WorkspaceError where the loops cannot be closed.
     """
     act, pas = partition(robot)
     q_act = as_samples("q_act", q_act, len(act), times=t)
@@ -80,6 +88,11 @@ def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray
     .. code:: text
 
         Phi_p qd_p = -Phi_a qd_a,    Phi_p qdd_p = gamma - Phi_a qdd_a
+
+    ``q`` (N, n) is on the loops (rad); ``qd_act``, ``qdd_act`` (N, actuated) are the actuated
+    rates (rad/s) and accelerations (rad/s^2); ``t`` (N,) times (s) to name in an error.
+    Returns ``qd``, ``qdd``, each (N, n), every coordinate. Raises WorkspaceError at a pose
+    where Phi_p is singular.
     """
     act, pas = partition(robot)
     q = as_samples("q", q, robot.n, times=t)

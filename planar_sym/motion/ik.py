@@ -31,6 +31,8 @@ def solve_rates(robot: Robot, t: np.ndarray, x: np.ndarray, J: np.ndarray, rhs: 
     """Solve J y = rhs per sample, refusing a singular pose by name and time.
 
     J (N, n, n), rhs (N, n); ``cond``, the 2-norm condition numbers of J, if already known.
+    ``t`` (N,) are the times (s) and ``x`` (N, n_task) the targets (m, rad) an error names.
+    Returns y, shape (N, n), in the units of rhs per unit of J.
     """
     fails = Failures(robot, t, x)
     _add_singular(fails, np.linalg.cond(J) if cond is None else cond)

@@ -20,7 +20,11 @@ from ..errors import InputError
 
 @dataclass(frozen=True)
 class Trajectory:
-    """Samples of a trajectory: ``x``, ``xd``, ``xdd`` of shape (N, channels) at times ``t_s``."""
+    """Samples of a trajectory: ``x``, ``xd``, ``xdd`` of shape (N, channels) at times ``t_s``.
+
+    Units are the channels' own, SI: a task trajectory holds x, y in m (phi in rad), their
+    rates in m/s (rad/s) and accelerations in m/s^2 (rad/s^2); ``t_s`` (N,) is in s.
+    """
 
     t_s: np.ndarray
     x: np.ndarray
@@ -30,7 +34,8 @@ class Trajectory:
 
 @dataclass(frozen=True)
 class JointTrajectory:
-    """Joint motion at times ``t_s``: q (rad), qd (rad/s), qdd (rad/s^2), each (N, n).
+    """Joint motion at times ``t_s`` (N,) in s: ``q`` (rad), ``qd`` (rad/s), ``qdd``
+    (rad/s^2), each (N, n), every coordinate (passive ones too; m, m/s, m/s^2 at a slider).
 
     ``solver`` names the inverse kinematics that produced it ("seed closed form", "newton"),
     empty where none ran (joint-space motion)."""
@@ -44,7 +49,12 @@ class JointTrajectory:
 
 
 def coeff_3rd(sp, sv, ep, ev, tsec: float) -> np.ndarray:
-    """The seed's cubic coefficients, shape (channels, 4): c0 + c1 t + c2 t^2 + c3 t^3."""
+    """The seed's cubic coefficients, shape (channels, 4): c0 + c1 t + c2 t^2 + c3 t^3.
+
+    ``sp``, ``ep`` are the start and end values, ``sv``, ``ev`` the start and end rates (one
+    per channel, its own SI unit u and u/s), ``tsec`` the duration (s); the coefficients are in
+    u, u/s, u/s^2, u/s^3.
+    """
     if isinstance(tsec, bool) or not isinstance(tsec, (int, float, np.number)) \
             or not np.isfinite(tsec) or tsec <= 0:
         raise InputError(f"trajectory duration must be a positive number of seconds (got {tsec!r})")
@@ -70,7 +80,23 @@ def _floats(name: str, v) -> np.ndarray:
 
 
 def cubic(x0, dx, duration_s: float, t_s) -> Trajectory:
-    """Cubic from ``x0`` to ``x0 + dx`` over ``duration_s`` with zero end velocities, at ``t_s``."""
+    """Cubic from ``x0`` to ``x0 + dx`` over ``duration_s`` with zero end velocities, at ``t_s``.
+
+    Parameters
+    ----------
+    x0, dx : array_like, shape (channels,)
+        Start and displacement per channel, SI: a task motion's x, y in m (phi in rad), or
+        joint coordinates in rad (m at a slider).
+    duration_s : float
+        Duration of the move (s), > 0.
+    t_s : array_like, shape (N,)
+        Sample times (s), each within ``[0, duration_s]``.
+
+    Returns
+    -------
+    Trajectory
+        ``x``, ``xd``, ``xdd`` (N, channels) in the channels' units, /s and /s^2.
+    """
     x0, dx = _floats("start", x0), _floats("displacement", dx)
     if x0.shape != dx.shape:
         raise InputError(f"x0 and dx must have the same length (got {x0.size} and {dx.size})")

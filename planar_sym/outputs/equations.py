@@ -26,7 +26,22 @@ FILES = {"text": "equations.txt", "latex": "equations.tex", "markdown": "equatio
 
 @dataclass(frozen=True)
 class Equations:
-    """The equation report of one robot in three formats (generated-file header removed)."""
+    """The equation report of one robot in three formats (generated-file header removed).
+
+    ``str(eq)`` is the text form; in a notebook the report renders as Markdown with LaTeX
+    math.
+
+    Attributes
+    ----------
+    robot : str
+        The robot's name.
+    text : str
+        Plain text: each equation on one line in SymPy syntax (``sections`` reads it).
+    latex : str
+        A LaTeX document.
+    markdown : str
+        Markdown with ``$$`` math blocks (renders on GitHub and in notebooks).
+    """
 
     robot: str
     text: str
@@ -34,6 +49,8 @@ class Equations:
     markdown: str
 
     def format(self, fmt: str) -> str:
+        """The report in format ``fmt``: ``"text"``, ``"latex"`` or ``"markdown"`` (``FILES``);
+        another name raises InputError."""
         if fmt not in FILES:
             raise InputError(f"unknown equation format {fmt!r}; known: {', '.join(FILES)}")
         return getattr(self, fmt)

@@ -11,8 +11,9 @@ from .plots import save_figure
 
 
 def write(result: Result, out_dir: Path, split: bool = False, csv: bool = True,
-          plot: bool = True) -> list[Path]:
-    """Write ``<name>.csv``, ``<name>.png`` and (``split``) ``<name>_split.png``; all or nothing.
+          plot: bool = True, npz: bool = False) -> list[Path]:
+    """Write ``<name>.csv``, ``<name>.png``, (``split``) ``<name>_split.png`` and (``npz``)
+    ``<name>.npz``; all or nothing.
 
     Parameters
     ----------
@@ -23,6 +24,9 @@ def write(result: Result, out_dir: Path, split: bool = False, csv: bool = True,
         Also write the torque-split figure.
     csv, plot : bool
         Write the table, the main figure.
+    npz : bool
+        Write the table's columns as NPZ too (float64 bit for bit, with the study's and the
+        robot's names: ``Result.save_npz``).
 
     Returns
     -------
@@ -41,6 +45,8 @@ def write(result: Result, out_dir: Path, split: bool = False, csv: bool = True,
         targets.append(out_dir / f"{result.name}.png")
     if split:
         targets.append(out_dir / f"{result.name}_split.png")
+    if npz:
+        targets.append(out_dir / f"{result.name}.npz")
     with atomic_files(targets) as temps:
         it = iter(temps)
         if csv:
@@ -49,4 +55,6 @@ def write(result: Result, out_dir: Path, split: bool = False, csv: bool = True,
             save_figure(result, next(it))
         if split:
             save_figure(result, next(it), split=True)
+        if npz:
+            result.save_npz(next(it))
     return targets

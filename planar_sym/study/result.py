@@ -38,6 +38,25 @@ class Result:
     the inverse kinematics that ran; ``actuated`` the actuated coordinates (0-based); ``sizing``
     one ``study.sizing.ActuatorSizing`` per actuator (peaks, RMS, power, energy, limits
     exceeded with the time), inverse dynamics only.
+
+    Attributes
+    ----------
+    name : str
+        The study's name (the CSV and figure file names).
+    summary : str
+        Its title, one line.
+    columns : dict of str to ndarray
+        Column name (with its unit) -> values, shape (N,), SI; ``t_s`` first.
+    kind : str
+        ``"angles"``, ``"torques"`` or ``"control"``.
+    note : str
+        What the figure's footnote says: coordinates, solver, drift, limits exceeded.
+    robot : str
+        The robot's name.
+    reference : ndarray, shape (N, n), or None
+        Control studies: every coordinate's reference at ``t_s`` (rad; m at a slider).
+    events : tuple of Event
+        Control studies: what happened along the run (name, time in s, stopped).
     """
 
     name: str
@@ -57,14 +76,17 @@ class Result:
     events: tuple = ()
 
     def table(self) -> np.ndarray:
+        """Every column side by side, shape (N, columns), SI as the column names say."""
         return np.column_stack(list(self.columns.values()))
 
     def torques(self) -> dict[str, np.ndarray]:
-        """The torque columns (N*m), in coordinate order."""
+        """The torque columns, each (N,) in N*m (a prismatic joint's force in N), in
+        coordinate order."""
         return {k: v for k, v in self.columns.items() if TORQUE.match(k)}
 
     def angles(self) -> dict[str, np.ndarray]:
-        """The joint-angle columns (rad), in coordinate order."""
+        """The joint-coordinate columns, each (N,) in rad (a slider's in m), in coordinate
+        order."""
         return {k: v for k, v in self.columns.items() if ANGLE.match(k)}
 
     def peak_torques(self) -> dict[str, float]:
@@ -73,6 +95,31 @@ class Result:
                 for k, v in self.torques().items()}
 
     def csv_text(self) -> str:
+        """The columns as CSV text: one header row of names with units, then one row per
+        sample (17 significant digits)."""
         header = ",".join(self.columns)
         rows = "\n".join(",".join(f"{v:.17g}" for v in row) for row in self.table())
         return header + "\n" + rows + "\n"
+
+    def metadata(self) -> dict[str, str]:
+        """What the NPZ and the DataFrame's ``attrs`` carry besides the columns: study, robot,
+        summary, kind, solver, note."""
+        return {"study": self.name, "robot": self.robot, "summary": self.summary,
+                "kind": self.kind, "solver": self.solver, "note": self.note,
+                "writer": "planar-sym"}
+
+    def to_dataframe(self):
+        """The columns as a pandas DataFrame, one per column in order, names with units,
+        ``t_s`` a column (not the index: ``df.to_csv(index=False)`` has the CSV's header);
+        ``attrs`` = ``metadata()``. Needs pandas (``pip install pandas``)."""
+        from ..dynamics.columns import dataframe
+
+        return dataframe(self.columns, self.metadata())
+
+    def save_npz(self, path):
+        """Write the columns (each (N,), float64 bit for bit) and ``metadata()`` to the NPZ
+        file ``path``, whole or not at all; returns the Path. Read back with ``np.load`` or
+        ``planar_sym.dynamics.columns.load_npz``."""
+        from ..dynamics.columns import save_npz
+
+        return save_npz(path, self.columns, self.metadata())

@@ -184,7 +184,7 @@ def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
     evaluated in Python. ``tau`` comes back on the actuated joints."""
     from ..control import controller, simulate_controlled
     from ..dynamics.forward import simulate
-    from ..dynamics.integrate import Simulation
+    from ..dynamics.integrate import Simulation, labels
     from .control_run import torque_input
 
     s = st.simulation
@@ -197,7 +197,7 @@ def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
                                   torque=np.zeros(len(act)) if u is None else u, q0=q0,
                                   qd0=qd0, t_eval=t, method=s.method, rtol=s.rtol, atol=s.atol)
         return Simulation(t, run.q, run.qd, run.tau, run.kinetic_j, run.potential_j, s.method,
-                          s.rtol, s.atol, run.n_rhs)
+                          s.rtol, s.atol, run.n_rhs, **labels(robot))
     if compiled_input:
         sig = u
 
@@ -236,7 +236,8 @@ def motion(study: str | Path | specs.Study, frames: int) -> tuple[Robot, np.ndar
 def motion_and_reference(study: str | Path | specs.Study, frames: int
                          ) -> tuple[Robot, np.ndarray, np.ndarray, np.ndarray | None]:
     """As ``motion``, and for a control study the reference of every coordinate (frames, n),
-    else None."""
+    else None: robot, t (frames,) in s, q (frames, n) in rad (m at a slider), reference in the
+    same units."""
     st = load_study(study)
     if not isinstance(frames, (int, np.integer)) or frames < 2:
         raise InputError(f"the number of frames must be an integer >= 2 (got {frames})")

@@ -1,0 +1,213 @@
+"""What an exported MJCF or URDF file holds: a description's bodies and joints with a robot's
+current parameter values (SI), and the provenance every exported file states in its header.
+
+The structure (bodies, joints, cut joints, drawn relative angles, slide axes) comes from the
+robot's description; every number the equations use (masses, inertias, centres of gravity,
+body-frame points, slide offsets, gravity) comes from ``Robot.parameters``, so a robot from
+``with_parameters`` exports its own values. A body-frame coordinate that is not a parameter is
+an exact structural zero (``Description.parameters``) or a point the equations never use (drawn
+only), and keeps the description's value.
+
+Not exported (a rigid-body file has no place that reproduces them exactly): the actuator models'
+rotor inertia (its kinetic energy 1/2 J_m (w_parent + N qd)^2 couples the parent body's rate,
+which MuJoCo's ``armature`` N^2 J_m leaves out), viscous and Coulomb friction (``tanh``
+smoothed here). ``RigidModel.not_exported`` names those a robot has, and every header says so.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from ..errors import InputError, LibraryError
+from ..model.description import GROUND, Body, Description, Joint
+from ..model.description import load as load_description
+from ..model.description.types import snap_offset
+
+#: actuator parameters that change the dynamics but have no exact place in MJCF or URDF
+ACTUATOR_PREFIXES = ("jm_", "fv_", "fc_")
+
+
+@dataclass(frozen=True)
+class RigidModel:
+    """A planar robot as rigid bodies, every value SI (m, kg, kg*m^2, rad, m/s^2).
+
+    Attributes
+    ----------
+    name, title : str
+        The robot's.
+    bodies : dict of str to Body
+        Every body (``"ground"`` included) in its own frame, with the robot's parameter values.
+    tree : tuple of Joint
+        The spanning tree's joints (revolute, prismatic, weld) in the description's order.
+    cuts : tuple of Joint
+        The cut (loop-closing) joints, revolute: each holds two body points together.
+    offsets_m : dict of str to float
+        Each prismatic joint's drawn offset s0 (m): the child point lies ``s0 + d`` along the
+        axis from the parent point, ``d`` the joint's coordinate.
+    gravity_m_s2 : tuple of float
+        (gx, gy), m/s^2.
+    coordinates : tuple of str
+        The robot's coordinates (its q order): names of the revolute and prismatic tree joints.
+    actuated : tuple of str
+        The actuated coordinates' joint names.
+    input_hash : str
+        The generated code's input hash (its manifest), "" for a bare description.
+    source : str
+        Where the structure came from: the description file's name.
+    changed : tuple of str
+        ``"name = value unit"`` for each parameter that differs from the description's value.
+    not_exported : tuple of str
+        Actuator parameters (non-zero) that the exported file does not hold.
+    """
+
+    name: str
+    title: str
+    bodies: dict[str, Body]
+    tree: tuple[Joint, ...]
+    cuts: tuple[Joint, ...]
+    offsets_m: dict[str, float]
+    gravity_m_s2: tuple[float, float]
+    coordinates: tuple[str, ...]
+    actuated: tuple[str, ...] = ()
+    input_hash: str = ""
+    source: str = ""
+    changed: tuple[str, ...] = ()
+    not_exported: tuple[str, ...] = ()
+
+    def rel_angle(self, j: Joint) -> float:
+        """The child frame's angle to the parent frame (rad) that a weld or prismatic joint keeps
+        (a revolute joint's is its coordinate, 0 here)."""
+        if j.type == "revolute":
+            return 0.0
+        return self.bodies[j.child].drawn_angle_rad - self.bodies[j.parent].drawn_angle_rad
+
+    def children(self) -> dict[str, list[Joint]]:
+        """Tree joints by parent body, in the description's order."""
+        out: dict[str, list[Joint]] = {}
+        for j in self.tree:
+            out.setdefault(j.parent, []).append(j)
+        return out
+
+    def depth_first(self) -> list[Joint]:
+        """The tree joints depth-first from ground (siblings in the description's order): the
+        order MJCF nests bodies in, hence MuJoCo's qpos order."""
+        kids, out = self.children(), []
+
+        def visit(body: str) -> None:
+            for j in kids.get(body, []):
+                out.append(j)
+                visit(j.child)
+
+        visit(GROUND)
+        return out
+
+    @property
+    def total_mass_kg(self) -> float:
+        return math.fsum(b.mass_kg for k, b in self.bodies.items() if k != GROUND)
+
+    def span_m(self) -> tuple[tuple[float, float], float]:
+        """Centre (m) and size (m) of the drawn pose's points: for cameras and geom sizes."""
+        pts = [b.world(p) for b in self.bodies.values() for p in (*b.points_m.values(), b.cg_m)]
+        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+        size = max(max(xs) - min(xs), max(ys) - min(ys))
+        centre = ((max(xs) + min(xs)) / 2, (max(ys) + min(ys)) / 2)
+        return centre, (size if size > 0 else 1.0)
+
+
+def from_description(desc: Description) -> RigidModel:
+    """The description's own values (what the benchmarks' MuJoCo model is built from)."""
+    return RigidModel(
+        desc.name, desc.title, dict(desc.bodies), tuple(desc.tree_joints),
+        tuple(desc.loop_joints),
+        {j.name: snap_offset(desc.slide_offset_m(j)) for j in desc.tree_joints
+         if j.type == "prismatic"},
+        tuple(desc.gravity_m_s2), desc.coordinates,
+        tuple(j.name for j in desc.tree_joints if j.moves and j.actuated),
+        source=Path(desc.path).name if desc.path else "")
+
+
+def from_robot(robot) -> RigidModel:
+    """The robot's description with ``robot.parameters`` (SI) in place of its values.
+
+    Parameters
+    ----------
+    robot : planar_sym.Robot
+        A loaded robot (``planar_sym.load``), possibly from ``with_parameters``.
+
+    Raises
+    ------
+    InputError
+        The robot has no description at hand (a generated folder without description.toml).
+    LibraryError
+        The description no longer matches the generated code (other parameters or joints).
+    """
+    path = robot.description_file
+    if path is None:
+        raise InputError(f"{robot.name}: no description at hand to export it (its generated "
+                         f"folder {robot.library.folder} has no description.toml): export it "
+                         "from its description file ROBOT.toml")
+    desc = load_description(path)
+    names = [p.name for p in desc.parameters()]
+    if names != [p.name for p in robot.parameter_list] or desc.coordinates != robot.coordinates:
+        raise LibraryError(f"{robot.name}: its description {path} no longer matches its "
+                           f"generated code in {robot.library.folder} (other parameters or "
+                           "joints): re-derive it (`make derive`, or `planar-sym derive` for "
+                           "your own robot)")
+    v = robot.parameters
+    bodies = {GROUND: _with_values(desc.bodies[GROUND], v)}
+    for name, body in desc.bodies.items():
+        if name != GROUND:
+            bodies[name] = replace(
+                _with_values(body, v), mass_kg=v[f"m_{name}"],
+                izz_kg_m2=0.0 if body.point_mass else v[f"izz_{name}"],
+                cg_m=(v.get(f"cgx_{name}", body.cg_m[0]), v.get(f"cgy_{name}", body.cg_m[1])))
+    direction = robot.library.manifest.get("gravity_direction")
+    if direction is None:  # manifests from before it: the description's direction
+        gx, gy = desc.gravity_m_s2
+        norm = math.hypot(gx, gy)
+        direction = (gx / norm, gy / norm) if norm else (0.0, 0.0)
+    g = v.get("g", 0.0)
+    units = {p.name: p.unit for p in robot.parameter_list}
+    defaults = {p["name"]: p["value"] for p in robot.library.manifest["parameters"]}
+    changed = tuple(f"{k} = {x!r} {units[k]} (description: {defaults[k]!r})"
+                    for k, x in v.items() if k in defaults and x != defaults[k])
+    skipped = tuple(k for k, x in v.items() if k.startswith(ACTUATOR_PREFIXES) and x != 0.0)
+    if skipped:
+        warnings.warn(f"{robot.name}: actuator figures {', '.join(skipped)} are not exported "
+                      "(MJCF and URDF have no exact equivalent): the file holds the rigid bodies "
+                      "only", RuntimeWarning, stacklevel=3)
+    return RigidModel(
+        robot.name, robot.title, bodies, tuple(desc.tree_joints), tuple(desc.loop_joints),
+        {j.name: v.get(f"s0_{j.name}", 0.0) for j in desc.tree_joints if j.type == "prismatic"},
+        (g * direction[0], g * direction[1]), robot.coordinates,
+        tuple(robot.coordinates[i] for i in robot.actuated),
+        robot.library.manifest.get("input_hash", ""),
+        Path(robot.library.manifest.get("input") or path).name, changed, skipped)
+
+
+def _with_values(body: Body, v: dict[str, float]) -> Body:
+    """``body`` with its point coordinates taken from the parameters where they are ones."""
+    pts = {p: (v.get(f"px_{body.name}_{p}", x), v.get(f"py_{body.name}_{p}", y))
+           for p, (x, y) in body.points_m.items()}
+    return replace(body, points_m=pts)
+
+
+def header(model: RigidModel, fmt: str, extra: list[str]) -> str:
+    """The comment text that opens an exported file (no ``--``: XML comments forbid it)."""
+    lines = [f"Written by planar-sym export ({fmt}): robot {model.name}, {model.title}",
+             (f"description: {model.source or '(none)'}; generated code input hash "
+             f"{model.input_hash or '(none)'}"),
+             ("Values are SI: m, kg, kg*m^2, rad, s, m/s^2 (torques N*m, forces N), written "
+             "with full float precision (repr)."),
+             (f"Total mass {model.total_mass_kg!r} kg; coordinates (our q order): "
+             f"{', '.join(model.coordinates)}; actuated: {', '.join(model.actuated) or 'none'}.")]
+    if model.changed:
+        lines.append("Parameters changed from the description: " + "; ".join(model.changed))
+    lines += extra
+    if model.not_exported:
+        lines.append("NOT exported (actuator models, no exact equivalent here): "
+                     f"{', '.join(model.not_exported)}; the file holds the rigid bodies only.")
+    return "\n".join("  " + line.replace("--", "- -") for line in lines)

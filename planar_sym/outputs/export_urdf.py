@@ -1,0 +1,159 @@
+"""URDF of a planar robot that is a tree (an open chain); a closed chain is refused.
+
+Construction (``export_model.RigidModel``, the robot's current parameters):
+
+* links are the bodies; ``ground`` is the root link (fixed base: the world frame, no inertia);
+* a link's frame is its body frame moved to the body's point of the joint to its parent (URDF
+  puts a link's frame at its parent joint), axes unchanged; so a point ``p`` of body B (body
+  frame) is at ``p - c_B`` in link B, ``c_B`` that joint's child point;
+* a revolute joint is ``continuous`` (planar-sym has no joint limits) about z, its ``origin``
+  the parent point in the parent link, no rotation: the joint angle is exactly our q (child
+  frame angle minus parent frame angle). Pinocchio makes a ``continuous`` joint a
+  ``JointModelRUBZ``: nq = 2 (cos q, sin q), nv = 1;
+* a prismatic joint: ``origin`` at the parent point moved by the drawn offset ``s0`` along the
+  axis, rotated by the drawn relative angle; ``axis`` the description's (parent frame) written
+  in that rotated joint frame; its coordinate is exactly our d. URDF requires a ``<limit>``:
+  ``lower``/``upper`` +-``UNLIMITED`` m, ``effort`` and ``velocity`` ``UNLIMITED`` (N, m/s),
+  i.e. none;
+* a weld is a ``fixed`` joint rotated by the drawn relative angle;
+* ``inertial``: mass, origin at the centre of gravity, ``ixx = iyy = izz/2`` (they never enter
+  planar dynamics; the same choice as the MJCF), products zero;
+* visuals: a cylinder from the centre of gravity to each point and a sphere at the centre of
+  gravity (geometry only: URDF takes mass and inertia from ``inertial`` alone).
+
+Gravity is not part of URDF: set it in the engine to ``[gx, gy, 0]`` (the header says the
+value; Pinocchio: ``model.gravity.linear``). Joints are matched by name: a parser orders them
+as it likes (Pinocchio depth-first).
+
+A closed chain cannot be written: the URDF specification allows trees only ("only tree
+structures can be represented, ruling out all parallel robots", wiki.ros.org/urdf/XML/model).
+Loop extensions have been proposed (a ``<loop_joint>`` or ``<constraint>`` element: URDF 2.0
+drafts, urdfdom PR #264, "Extended URDF", arXiv 2504.04767), but none is in the specification
+or read by the common parsers (urdfdom, Pinocchio, Drake, MuJoCo's URDF import): each would
+silently drop the loop and load the spanning tree, a different mechanism. So ``to_urdf``
+refuses and points to MJCF, which keeps every cut joint as an equality constraint.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..errors import InputError
+from ..model.description import GROUND
+from .export_model import RigidModel, from_robot, header
+
+#: what a prismatic joint's required <limit> says when planar-sym has none (m, N, m/s)
+UNLIMITED = 1e9
+
+
+def _v(*xs: float) -> str:
+    return " ".join(repr(float(x)) for x in xs)
+
+
+def to_urdf(robot) -> str:
+    """The URDF text of a tree robot with its current parameters (see module doc).
+
+    Parameters
+    ----------
+    robot : planar_sym.Robot
+        An open chain (no cut joints); revolute, prismatic and weld joints.
+
+    Returns
+    -------
+    str
+        A complete URDF file with a header comment naming robot, description, input hash,
+        SI units and the gravity to set in the engine.
+
+    Raises
+    ------
+    InputError
+        ``robot`` is a closed chain (URDF holds trees only; export MJCF).
+    """
+    if robot.is_closed_chain:
+        cuts = ", ".join(robot.loops)
+        raise InputError(f"{robot.name} is a closed chain (cut joint{'s' * (len(robot.loops) > 1)} "
+                         f"{cuts}): URDF describes trees only, and no loop "
+                         "extension of it is read by the common parsers, so its spanning tree "
+                         "would load as a different mechanism; export MJCF instead "
+                         "(--format mjcf, or to_mjcf), which keeps every cut joint as an "
+                         "equality constraint")
+    return urdf(from_robot(robot))
+
+
+def urdf(model: RigidModel) -> str:
+    """The URDF text of ``model`` (a tree: ``model.cuts`` must be empty)."""
+    if model.cuts:
+        raise InputError(f"{model.name} is a closed chain: URDF describes trees only; export "
+                         "MJCF instead (--format mjcf)")
+    frame = {GROUND: (0.0, 0.0)}  # each body's link-frame origin in its body frame (m)
+    for j in model.tree:
+        frame[j.child] = model.bodies[j.child].points_m[j.child_point]
+    radius = 0.01 * model.span_m()[1]
+    links = ['  <link name="ground"/>']
+    for name, body in model.bodies.items():
+        if name == GROUND:
+            continue
+        ox, oy = frame[name]
+        cg = (body.cg_m[0] - ox, body.cg_m[1] - oy)
+        izz = body.izz_kg_m2
+        links += [f'  <link name="{name}">',
+                  "    <inertial>",
+                  f'      <origin xyz="{_v(*cg, 0)}" rpy="0 0 0"/>',
+                  f'      <mass value="{body.mass_kg!r}"/>',
+                  (f'      <inertia ixx="{izz / 2!r}" ixy="0" ixz="0" iyy="{izz / 2!r}" iyz="0" '
+                  f'izz="{izz!r}"/>'),
+                  "    </inertial>",
+                  *_visuals(cg, [(x - ox, y - oy) for x, y in body.points_m.values()], radius),
+                  "  </link>"]
+    joints = []
+    for j in model.tree:
+        px, py = model.bodies[j.parent].points_m[j.parent_point]
+        ox, oy = frame[j.parent]
+        x, y, rel = px - ox, py - oy, model.rel_angle(j)
+        lines = [f'    <parent link="{j.parent}"/>', f'    <child link="{j.child}"/>']
+        if j.type == "revolute":
+            kind = "continuous"
+            lines += [f'    <origin xyz="{_v(x, y, 0)}" rpy="0 0 0"/>', '    <axis xyz="0 0 1"/>']
+        elif j.type == "prismatic":
+            kind = "prismatic"
+            ux, uy = j.axis
+            s0 = model.offsets_m[j.name]
+            c, s = math.cos(rel), math.sin(rel)
+            at = _v(x + s0 * ux, y + s0 * uy, 0)
+            lines += [f'    <origin xyz="{at}" rpy="{_v(0, 0, rel)}"/>',
+                      f'    <axis xyz="{_v(c * ux + s * uy, -s * ux + c * uy, 0)}"/>',
+                      (f'    <limit lower="{-UNLIMITED!r}" upper="{UNLIMITED!r}" '
+                      f'effort="{UNLIMITED!r}" velocity="{UNLIMITED!r}"/>')]
+        else:
+            kind = "fixed"
+            lines += [f'    <origin xyz="{_v(x, y, 0)}" rpy="{_v(0, 0, rel)}"/>']
+        joints += [f'  <joint name="{j.name}" type="{kind}">', *lines, "  </joint>"]
+    gx, gy = model.gravity_m_s2
+    extra = [(f"GRAVITY IS NOT PART OF URDF: set it in your engine to [{_v(gx, gy, 0)}] m/s^2 "
+             "(the robot moves in the plane z = 0; Pinocchio: model.gravity.linear)."),
+             ("Link frames: each body's planar-sym frame moved to its joint to the parent (axes "
+             "unchanged); revolute joints are continuous about z, so each joint value is our q "
+             "(Pinocchio: nq 2 per continuous joint, cos q and sin q). Match joints by name."),
+             ("Inertia: ixx = iyy = izz/2 (they never enter planar dynamics). No joint limits: a "
+             f"prismatic joint's required <limit> is +-{UNLIMITED:g} (none).")]
+    return "\n".join(['<?xml version="1.0"?>', f"<!--\n{header(model, 'URDF', extra)}\n-->",
+                      f'<robot name="{model.name}">', *links, *joints, "</robot>", ""])
+
+
+def _visuals(cg, points, r: float) -> list[str]:
+    """Visual-only cylinders from the centre of gravity to each point, a sphere at it."""
+    out = [_visual(cg, 0.0, "<sphere radius=\"%r\"/>" % (1.5 * r))]
+    for x, y in points:
+        dx, dy = x - cg[0], y - cg[1]
+        length = math.hypot(dx, dy)
+        if length > 1e-9:  # a z-cylinder turned onto the segment: pitch pi/2, then yaw
+            mid = (cg[0] + dx / 2, cg[1] + dy / 2)
+            out.append(_visual(mid, math.atan2(dy, dx),
+                               f'<cylinder radius="{r!r}" length="{length!r}"/>', pitch=True))
+    return out
+
+
+def _visual(xy, yaw: float, shape: str, pitch: bool = False) -> str:
+    rpy = _v(0, math.pi / 2 if pitch else 0.0, yaw)
+    return (f'    <visual><origin xyz="{_v(*xy, 0)}" rpy="{rpy}"/>'
+            f"<geometry>{shape}</geometry></visual>")
