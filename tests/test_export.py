@@ -347,3 +347,30 @@ def test_cli_errors_name_the_option_and_write_nothing(argv, message, tmp_path, c
     assert err.startswith("error: ") and message.format(tmp=tmp_path) in err, err
     assert err.count("\n") == 1  # one line
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("name", ["serial_2dof", "serial_rpr", "five_bar_type1", "parallel_3rrr",
+                                  "slider_crank", "four_bar"])
+def test_mujoco_reset_state_is_the_drawn_pose_on_the_loops(name, tmp_path):
+    """The user file is laid out in the drawn pose (joint ``ref``): MuJoCo's reset state is
+    q_drawn, where every cut joint's two sites coincide. Laid out at q = 0 instead, a closed
+    chain's cut joints gaped by centimetres and the viewer's first steps blew it apart."""
+    robot = ps.load(ROOT / "examples" / "four_bar.toml" if name == "four_bar" else name)
+    path = write(robot, tmp_path / f"{name}.xml")
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    mujoco.mj_resetData(m, d)
+    mujoco.mj_forward(m, d)
+    order = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, i) for i in range(m.njnt)]
+    qpos = dict(zip(order, d.qpos))
+    np.testing.assert_allclose([qpos[c] for c in robot.coordinates], robot.q_drawn, rtol=0,
+                               atol=1e-15)
+    sites = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_SITE, i): d.site_xpos[i]
+             for i in range(m.nsite)}
+    cuts = [n[:-2] for n in sites if n.endswith("_a")]
+    assert len(cuts) == robot.n_constraints // 2
+    for cut in cuts:  # each cut joint: sites <cut>_a and <cut>_b, on its two bodies
+        assert np.linalg.norm(sites[f"{cut}_a"] - sites[f"{cut}_b"]) < 1e-12, cut
+    for _ in range(50):  # and it moves off from there without blowing up
+        mujoco.mj_step(m, d)
+    assert np.all(np.isfinite(d.qpos)) and np.max(np.abs(d.qvel)) < 100.0

@@ -89,18 +89,24 @@ def to_mjcf(robot) -> str:
         input hash and SI units.
     """
     model = from_robot(robot)
+    # laid out in the drawn pose (on the loops): MuJoCo's reset state (qpos0, the joints'
+    # ref) is then a pose the equality constraints hold, not q = 0, where a closed chain's
+    # cut joints gape and the first steps blow it apart; qpos stays q
     return mjcf(model, timestep=USER_TIMESTEP_S, loops=True, solref=USER_SOLREF,
-                solimp=USER_SOLIMP, viewer=True)
+                solimp=USER_SOLIMP, viewer=True,
+                ref=dict(zip(robot.coordinates, map(float, robot.q_drawn))))
 
 
 def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
          solref: tuple[float, float] | None = None, solimp: tuple[float, ...] | None = None,
-         viewer: bool = False) -> str:
+         viewer: bool = False, ref: dict[str, float] | None = None) -> str:
     """The MJCF text of ``model``'s spanning tree; with ``loops``, its cut joints as ``connect``
     equality constraints (``solref``/``solimp``: MuJoCo's softness, default MuJoCo's own).
 
     ``viewer``: the user-facing file (header comment, zero-mass visual geoms, motors, camera);
-    without it, the benchmarks' bare model (no geoms, no motors, no comment).
+    without it, the benchmarks' bare model (no geoms, no motors, no comment). ``ref``: joint
+    name -> its coordinate (rad or m) in the pose the bodies are laid out in (MuJoCo's joint
+    ``ref``, so its reset state qpos0 is that pose and qpos stays q); default q = 0.
     """
     sites: dict[str, list[str]] = {}
     equalities: list[str] = []
@@ -131,15 +137,19 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
         px, py = parent.points_m[j.parent_point]
         cx, cy = child.points_m[j.child_point]
         rel = model.rel_angle(j)
+        q0 = (ref or {}).get(j.name, 0.0)
+        at = f' ref="{q0!r}"' if q0 else ""
         if j.type == "revolute":
-            joint = f'<joint name="{j.name}" type="hinge" pos="{_v(cx, cy, 0)}" axis="0 0 1"/>'
+            rel += q0  # turned about the joint point to the laid-out pose
+            joint = (f'<joint name="{j.name}" type="hinge" pos="{_v(cx, cy, 0)}" '
+                     f'axis="0 0 1"{at}/>')
         elif j.type == "prismatic":
             ux, uy = j.axis  # parent frame; MJCF wants the child's
-            s0 = model.offsets_m[j.name]
+            s0 = model.offsets_m[j.name] + q0
             px, py = px + s0 * ux, py + s0 * uy
             c, s = math.cos(rel), math.sin(rel)
             joint = (f'<joint name="{j.name}" type="slide" pos="{_v(cx, cy, 0)}" '
-                     f'axis="{_v(c * ux + s * uy, -s * ux + c * uy, 0)}"/>')
+                     f'axis="{_v(c * ux + s * uy, -s * ux + c * uy, 0)}"{at}/>')
         else:
             joint = ""
         c, s = math.cos(rel), math.sin(rel)
