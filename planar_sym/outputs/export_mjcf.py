@@ -44,6 +44,7 @@ from xml.sax.saxutils import quoteattr
 from ..errors import InputError
 from ..model.description import GROUND
 from .export_model import RigidModel, from_robot, header
+from .export_model import numbers as _v
 
 #: the user file's step (s) and integrator; MuJoCo's own default step is 2e-3 s
 USER_TIMESTEP_S = 1e-3
@@ -67,10 +68,6 @@ MJ_MINVAL_IZZ = 1e-14
 def point_mass_inertia(model: RigidModel, mass_kg: float) -> float:
     """The inertia (kg*m^2) the user file gives a moving point mass (``POINT_MASS_IZZ``)."""
     return max(POINT_MASS_IZZ * mass_kg * model.span_m()[1] ** 2, MJ_MINVAL_IZZ)
-
-
-def _v(*xs: float) -> str:
-    return " ".join(repr(float(x)) for x in xs)
 
 
 def to_mjcf(robot) -> str:

@@ -211,3 +211,9 @@ def header(model: RigidModel, fmt: str, extra: list[str]) -> str:
         lines.append("NOT exported (actuator models, no exact equivalent here): "
                      f"{', '.join(model.not_exported)}; the file holds the rigid bodies only.")
     return "\n".join("  " + line.replace("--", "- -") for line in lines)
+
+
+def numbers(*xs: float) -> str:
+    """Space-separated values at full precision (``repr``), as MJCF and URDF attributes take
+    them: the exported numbers round-trip exactly."""
+    return " ".join(repr(float(x)) for x in xs)

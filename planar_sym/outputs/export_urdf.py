@@ -41,13 +41,10 @@ import math
 from ..errors import InputError
 from ..model.description import GROUND
 from .export_model import RigidModel, from_robot, header
+from .export_model import numbers as _v
 
 #: what a prismatic joint's required <limit> says when planar-sym has none (m, N, m/s)
 UNLIMITED = 1e9
-
-
-def _v(*xs: float) -> str:
-    return " ".join(repr(float(x)) for x in xs)
 
 
 def to_urdf(robot) -> str:
