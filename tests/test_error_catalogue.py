@@ -982,10 +982,10 @@ def _reference_torques(q, qd, qdd) -> np.ndarray:
 @bad(FILES, "no C compiler (none on PATH, CC unset), empty cache: the robot runs on CasADi's "
      "evaluator, and its torques are right", Warned,
      r"\Aserial_2dof: no C compiler found; running on CasADi's own evaluator instead: the same "
-     r"numbers, about 20x slower in batches and 700x in simulations and inverse kinematics "
+     r"numbers, about 20x slower in batches and 500x in simulations and inverse kinematics "
      r"\(install gcc, or set CC to a C compiler, for compiled speed\)\Z",
      "serial_2dof: no C compiler found; running on CasADi's own evaluator instead: the same "
-     "numbers, about 20x slower in batches and 700x in simulations and inverse kinematics "
+     "numbers, about 20x slower in batches and 500x in simulations and inverse kinematics "
      "(install gcc, or set CC to a C compiler, for compiled speed)",
      see="tests/test_casadi_evaluator.py")
 def no_compiler(ctx):

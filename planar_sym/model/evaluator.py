@@ -3,7 +3,7 @@
 Every generated folder holds each function as ``Function.save`` wrote it (``<quantity>.casadi``).
 Loaded with ``casadi.Function.load`` (no SymPy, no compiler), it gives the same numbers as the
 compiled C (the same expression graph; tested to 1e-12), slower: about 20x per sample in
-batches, and about 700x per step of a simulation or a Newton loop, which calls back into Python
+batches, and about 500x per step of a simulation or a Newton loop, which calls back into Python
 once per step (``make bench``, section 3).
 
 Batches evaluate through CasADi's column mapping (inputs with N columns). The C helpers that
@@ -23,8 +23,8 @@ import numpy as np
 from ..errors import LibraryError
 
 #: measured by ``make bench`` (section 3): the evaluator against the compiled C, per sample in
-#: batches (14-21x) and per right-hand side of a simulation (670-850x)
-SLOWER_BATCH, SLOWER_STEP = 20, 700
+#: batches (14-21x) and per right-hand side of a simulation (380-850x)
+SLOWER_BATCH, SLOWER_STEP = 20, 500
 
 
 def no_compiler_warning(robot: str, reason: str) -> None:
