@@ -20,6 +20,17 @@ from ..files import atomic_files
 #: the NPZ entry holding the metadata (JSON text)
 METADATA_KEY = "__metadata__"
 
+#: column suffixes of a coordinate by its unit: value, rate, acceleration, torque or force
+SUFFIXES = {"rad": ("rad", "rad_s", "rad_s2", "n_m"), "m": ("m", "m_s", "m_s2", "n")}
+
+
+def coordinate_column(kind: str, k: int, unit: str) -> str:
+    """The column name of coordinate ``k`` (0-based) for ``kind`` ``q``, ``qd``, ``qdd`` or
+    ``tau``, its unit in the name: ``q1_rad``, ``qd2_m_s``, ``tau1_n_m``, ``tau2_n`` (a
+    prismatic joint's force)."""
+    suffix = SUFFIXES[unit][("q", "qd", "qdd", "tau").index(kind)]
+    return f"{kind}{k + 1}_{suffix}"
+
 
 def dataframe(columns: dict[str, np.ndarray], metadata: dict[str, str]):
     """A pandas DataFrame of ``columns`` (copied), one per column in order, ``t_s`` a column

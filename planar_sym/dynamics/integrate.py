@@ -16,6 +16,7 @@ import numpy as np
 from ..errors import InputError, SimulationError
 from ..model.library import load_helper
 from ..model.robot import Robot
+from .columns import coordinate_column
 
 Torque = None | float | np.ndarray | Callable[[float], np.ndarray]
 SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
@@ -93,8 +94,7 @@ class Simulation:
         for kind, arr, idx in (("q", self.q, range(n)), ("qd", self.qd, range(n)),
                                ("tau", self.tau, on)):
             for col, k in enumerate(idx):
-                suffix = _SUFFIXES[units[k]][("q", "qd", "tau").index(kind)]
-                out[f"{kind}{k + 1}_{suffix}"] = arr[:, col]
+                out[coordinate_column(kind, k, units[k])] = arr[:, col]
         out.update(kinetic_j=self.kinetic_j, potential_j=self.potential_j,
                    energy_j=self.energy_j)
         return out
@@ -131,10 +131,6 @@ class Simulation:
         e = self.energy_j
         scale = max(abs(e[0]), np.max(np.abs(self.kinetic_j)), 1e-300)
         return float(np.max(np.abs(e - e[0])) / scale)
-
-
-#: column suffixes of a coordinate by its unit: value, rate, torque (study.result.SUFFIXES)
-_SUFFIXES = {"rad": ("rad", "rad_s", "n_m"), "m": ("m", "m_s", "n")}
 
 
 def labels(robot: Robot) -> dict:

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import LibraryError
+from .batch import shaped
 
 #: measured by ``make bench`` (section 3): the evaluator against the compiled C, per sample in
 #: batches (14-21x) and per right-hand side of a simulation (380-850x)
@@ -93,13 +94,4 @@ class CasadiFunction:
 
     def __call__(self, n: int, args: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """Same contract as ``library.BatchFunction.__call__``."""
-        outs = self._evaluate(n, [args[name] for name, _ in self._ins])
-        shaped = {}
-        for (name, rows, cols, kind), a in zip(self.spec.outputs, outs):
-            if kind == "scalar":
-                shaped[name] = a[:, 0]
-            elif kind == "vector":
-                shaped[name] = a
-            else:
-                shaped[name] = a.reshape(n, cols, rows).transpose(0, 2, 1)
-        return shaped
+        return shaped(self.spec, n, self._evaluate(n, [args[name] for name, _ in self._ins]))

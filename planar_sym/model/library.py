@@ -19,13 +19,13 @@ import shutil
 import subprocess
 import tempfile
 import warnings
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from filelock import FileLock
 
 from ..errors import InputError, LibraryError
+from .batch import FunctionSpec, shaped
 
 CFLAGS = ("-O3", "-fPIC", "-shared", "-std=c99")
 _DIR = Path(__file__).resolve().parent  # planar_sym/model: _fastcall.c
@@ -290,13 +290,6 @@ class CorruptLibrary(LibraryError):
         self.reason = reason
 
 
-@dataclass(frozen=True)
-class FunctionSpec:
-    symbol: str
-    inputs: tuple[tuple[str, int], ...]
-    outputs: tuple[tuple[str, int, int, str], ...]  # name, rows, cols, scalar|vector|matrix
-
-
 class BatchFunction:
     """One generated function over N samples: per-sample arrays in, arrays out, one C call."""
 
@@ -329,16 +322,7 @@ class BatchFunction:
         status = self._fn(n, *ptrs)
         if status:
             raise LibraryError(f"{self.spec.symbol} failed at sample {status - 1}")
-        shaped = {}
-        for name, rows, cols, kind in self.spec.outputs:
-            a = outs[name]
-            if kind == "scalar":
-                shaped[name] = a[:, 0]
-            elif kind == "vector":
-                shaped[name] = a
-            else:  # CasADi matrices are column-major
-                shaped[name] = a.reshape(n, cols, rows).transpose(0, 2, 1)
-        return shaped
+        return shaped(self.spec, n, list(outs.values()))
 
 
 class Library:

@@ -18,8 +18,6 @@ import html
 from pathlib import Path
 from urllib.parse import quote
 
-import numpy as np
-
 from ..errors import PlanarSymError
 from ..files import atomic_files
 from ..study.result import Result
@@ -67,8 +65,8 @@ def _picture(src: str, caption: str, alt: str) -> str:
 def peak_lines(result: Result) -> list[str]:
     """``tau<k> = <peak>`` with the unit (N*m, or N for a slider) per actuated joint; one line
     saying why when there is none (forward dynamics under zero torque)."""
-    lines = [f"peak |{col.split('_')[0]}| = {float(np.max(np.abs(v))):.6g} "
-             f"{'N' if col.endswith('_n') else 'N*m'}" for col, v in result.torques().items()]
+    lines = [f"peak |{k}| = {v:.6g} {unit}"
+             for k, (v, unit) in result.peak_torques_with_units().items()]
     return lines or ["no torque (forward dynamics, zero torque)"]
 
 

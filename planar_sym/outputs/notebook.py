@@ -24,7 +24,7 @@ import numpy as np
 
 from ..dynamics.integrate import Simulation
 from ..model.robot import Robot
-from ..study.result import TORQUE, Result
+from ..study.result import Result
 
 #: dots per inch of the embedded pictures: small enough to keep a notebook light
 DPI = 72
@@ -140,10 +140,6 @@ def robot_html(robot: Robot, picture: bool = True) -> str:
     return _wrap(f"Robot {robot.name}", *parts)
 
 
-def _torque_unit(column: str) -> str:
-    return "N" if column.endswith("_n") else "N*m"
-
-
 def result_html(result: Result, picture: bool = True) -> str:
     """A study result as HTML: its summary, peak torques and its figure.
 
@@ -168,10 +164,8 @@ def result_html(result: Result, picture: bool = True) -> str:
             ("duration", f"{t[-1] - t[0]:.6g} s")]
     if result.solver:
         rows.append(("inverse kinematics", result.solver))
-    for column, values in result.torques().items():
-        key = TORQUE.match(column).group(0).split("_")[0]
-        peak = f"{float(np.max(np.abs(values))):.6g} {_torque_unit(column)}"
-        rows.append((f"peak |{key}|", peak))
+    for key, (peak, unit) in result.peak_torques_with_units().items():
+        rows.append((f"peak |{key}|", f"{peak:.6g} {unit}"))
     if "energy_j" in result.columns:
         e = result.columns["energy_j"]
         rows.append(("energy E(end) - E(0)", f"{e[-1] - e[0]:.3g} J"))

@@ -7,22 +7,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+# a coordinate's column names are the dynamics layer's (a Simulation names its columns too)
+from ..dynamics.columns import SUFFIXES, coordinate_column
+
+__all__ = ["ANGLE", "SUFFIXES", "TORQUE", "Result", "coordinate_column"]
+
 #: the column holding a coordinate's torque: tau<k>_n_m, k numbering the robot's coordinates
 #: (a prismatic joint's force: tau<k>_n)
 TORQUE = re.compile(r"^tau(\d+)_n(_m)?$")
 #: a coordinate's angle column (a prismatic joint's displacement: q<k>_m)
 ANGLE = re.compile(r"^q(\d+)_(rad|m)$")
 
-#: column suffixes of a coordinate by its unit: value, rate, acceleration, torque or force
-SUFFIXES = {"rad": ("rad", "rad_s", "rad_s2", "n_m"), "m": ("m", "m_s", "m_s2", "n")}
-
-
-def coordinate_column(kind: str, k: int, unit: str) -> str:
-    """The column name of coordinate ``k`` (0-based) for ``kind`` ``q``, ``qd``, ``qdd`` or
-    ``tau``, its unit in the name: ``q1_rad``, ``qd2_m_s``, ``tau1_n_m``, ``tau2_n`` (a
-    prismatic joint's force)."""
-    suffix = SUFFIXES[unit][("q", "qd", "qdd", "tau").index(kind)]
-    return f"{kind}{k + 1}_{suffix}"
 
 
 @dataclass(frozen=True)
@@ -93,6 +88,12 @@ class Result:
         """Largest magnitude (N*m, or N for a force) of each torque column, keyed ``tau<k>``."""
         return {k.split("_")[0]: float(np.max(np.abs(v)))
                 for k, v in self.torques().items()}
+
+    def peak_torques_with_units(self) -> dict[str, tuple[float, str]]:
+        """``peak_torques`` with each one's unit: ``tau<k>`` -> (peak, ``"N*m"``, or ``"N"`` for
+        a slider's force)."""
+        units = {k.split("_")[0]: ("N" if k.endswith("_n") else "N*m") for k in self.torques()}
+        return {k: (v, units[k]) for k, v in self.peak_torques().items()}
 
     def csv_text(self) -> str:
         """The columns as CSV text: one header row of names with units, then one row per
