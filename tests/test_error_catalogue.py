@@ -1961,6 +1961,16 @@ def export_suffix(ctx):
     _cli(ctx, "export", "serial_2dof", "--out", str(ctx.tmp / "r.sdf"))
 
 
+@bad(EXCHANGE, "`planar-sym export serial_2dof --format mjcf --out arm.urdf` (the suffix says "
+     "the other format)", CommandFailed,
+     r"--format mjcf but --out .*arm\.urdf names a URDF file: give --format urdf, or name the "
+     r"file \.xml",
+     "error: --format mjcf but --out arm.urdf names a URDF file: give --format urdf, or name the "
+     "file .xml", see=TE)
+def export_format_against_suffix(ctx):
+    _cli(ctx, "export", "serial_2dof", "--format", "mjcf", "--out", str(ctx.tmp / "arm.urdf"))
+
+
 @bad(EXCHANGE, "`planar-sym export five_bar_type1 --format urdf` (a closed chain)", CommandFailed,
      r"five_bar_type1 is a closed chain \(cut joint C\): URDF describes trees only.*export "
      r"MJCF instead",

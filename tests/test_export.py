@@ -33,7 +33,7 @@ from conftest import ROOT, TEST_ROBOTS, random_states, rel_err
 import planar_sym as ps
 from planar_sym.cli import main
 from planar_sym.errors import InputError
-from planar_sym.outputs.export import to_mjcf, to_urdf, write
+from planar_sym.outputs.export import format_of, to_mjcf, to_urdf, write
 from planar_sym.outputs.export_mjcf import USER_SOLIMP, USER_SOLREF, USER_TIMESTEP_S
 
 GATE = 1e-10
@@ -374,3 +374,19 @@ def test_mujoco_reset_state_is_the_drawn_pose_on_the_loops(name, tmp_path):
     for _ in range(50):  # and it moves off from there without blowing up
         mujoco.mj_step(m, d)
     assert np.all(np.isfinite(d.qpos)) and np.max(np.abs(d.qvel)) < 100.0
+
+
+def test_format_is_read_as_typed_and_must_agree_with_the_suffix(tmp_path):
+    """`--format URDF` is urdf; an explicit format that the file's suffix contradicts (MJCF in
+    an .urdf file) is refused, while a suffix that names no format (.txt) is left to --format."""
+    assert main(["export", "serial_2dof", "--format", "URDF", "--out",
+                 str(tmp_path / "a.urdf")]) == 0
+    assert "<robot " in (tmp_path / "a.urdf").read_text()
+    with pytest.raises(InputError, match=r"names a URDF file"):
+        format_of("mjcf", tmp_path / "b.urdf")
+    with pytest.raises(InputError, match=r"names an MJCF file"):
+        format_of("urdf", tmp_path / "b.xml")
+    assert format_of("urdf", tmp_path / "b.txt") == "urdf"
+    assert main(["export", "serial_2dof", "--format", "mjcf", "--out",
+                 str(tmp_path / "c.urdf")]) == 2
+    assert not (tmp_path / "c.urdf").exists()

@@ -29,16 +29,22 @@ def format_of(fmt: str | None, path: Path | None) -> str:
 
     Raises InputError for an unknown ``fmt``, or a ``path`` whose suffix says another format.
     """
+    suffix = Path(path).suffix.lower() if path is not None else ""
+    implied = next((name for name, (_, _, s) in FORMATS.items() if suffix in s), None)
     if fmt is not None:
-        if fmt not in FORMATS:
+        given = fmt.lower()  # "URDF" as a student types it
+        if given not in FORMATS:
             raise InputError(f"--format must be {' or '.join(FORMATS)} (got {fmt!r})")
-        return fmt
+        if implied is not None and implied != given:  # else an .urdf file holding MJCF
+            article = "an" if implied == "mjcf" else "a"
+            raise InputError(f"--format {given} but --out {path} names {article} "
+                             f"{implied.upper()} file: give --format {implied}, or name the "
+                             f"file {FORMATS[given][1]}")
+        return given
     if path is None:
         return "mjcf"
-    suffix = Path(path).suffix.lower()
-    for name, (_, _, suffixes) in FORMATS.items():
-        if suffix in suffixes:
-            return name
+    if implied is not None:
+        return implied
     raise InputError(f"--out {path}: cannot tell the format from the suffix "
                      f"{suffix or '(none)'!r}; give --format {' or '.join(FORMATS)} (or name "
                      "the file .xml or .urdf)")
