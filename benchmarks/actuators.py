@@ -108,9 +108,9 @@ import sys, time
 import derive.__main__ as m
 inner = getattr(m, "derive_robot", None)
 if inner is not None:
-    def derive_robot(robot):
+    def derive_robot(robot, *args):
         t0 = time.perf_counter()
-        out = inner(robot)
+        out = inner(robot, *args)
         print(f"derive_robot {out[0]} {time.perf_counter() - t0!r}", file=sys.stderr)
         return out
     m.derive_robot = derive_robot

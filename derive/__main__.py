@@ -22,7 +22,7 @@ from planar_sym.errors import DescriptionError
 from planar_sym.model.description import builtin_robots, load
 from planar_sym.progress import Progress
 
-from . import codegen, model
+from . import codegen
 
 
 def _exchange(a: Path, b: Path) -> bool:
@@ -67,9 +67,9 @@ def write_atomically(files: dict[str, bytes], target: Path) -> None:
                 shutil.rmtree(tmp)
 
 
-def derive_robot(robot: str | Path) -> tuple[str, dict[str, bytes]]:
+def derive_robot(robot: str | Path, equations: str = "auto") -> tuple[str, dict[str, bytes]]:
     desc = load(robot)
-    return desc.name, codegen.render(model.build(desc))
+    return desc.name, codegen.render(desc, equations)
 
 
 def is_stale(robot: str | Path, out: Path) -> bool:
@@ -89,6 +89,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
     ap.add_argument("--if-stale", action="store_true",
                     help="only robots whose manifest's input hash differs from the inputs")
+    ap.add_argument("--equations", choices=codegen.EQUATIONS, default="auto",
+                    help="the report: expanded closed forms where they fit (auto, see "
+                         "derive/size.py), always (closed: slow past a few links), or the "
+                         "structure they are computed from (structure)")
     args = ap.parse_args(argv)
     robots = args.robots or builtin_robots()
     if args.if_stale:
@@ -103,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
         for r in robots:
             progress.step(f"deriving {r}")
             t0 = time.perf_counter()
-            rendered.append(derive_robot(r))
+            rendered.append(derive_robot(r, args.equations))
             if not args.quiet:
                 print(f"derived {rendered[-1][0]} in {time.perf_counter() - t0:.2f} s",
                       file=sys.stderr)

@@ -1,4 +1,4 @@
-"""CasADi functions of a model -> C source, header, manifest.json, written atomically.
+"""CasADi functions of a robot -> C source, header, manifest.json, written atomically.
 
 Every generated function is ``<robot>_<quantity>`` with named inputs in the one argument order
 ``(q, qd, qdd|tau, p)``. Each also gets a ``_batch`` wrapper that loops over N samples in C
@@ -11,19 +11,17 @@ import hashlib
 import json
 import os
 import tempfile
-from dataclasses import dataclass
 from pathlib import Path
 
 import casadi as ca
 import sympy as sp
 
 from planar_sym.model import units as _units
-from planar_sym.model.description import Description
+from planar_sym.model.description import GROUND, Description
 
-from . import simd
-from .lagrange import gravity_direction
-from .model import Model
-from .to_casadi import Translator
+from . import ad_dynamics, simd
+from . import size as sizes
+from .quantities import Generated, choose, functions
 
 GENERATOR = "planar-sym derive (derive/codegen.py)"
 ROOT = Path(__file__).resolve().parent.parent
@@ -44,15 +42,6 @@ OUTPUT_KIND = {"kinetic": "scalar", "potential": "scalar", "cond": "scalar", "M"
                "J": "matrix",
                "phi_q": "matrix", "frames": "matrix", "dqdd_dq": "matrix", "dqdd_dqd": "matrix",
                "accelerations": "matrix", "cg": "matrix", "joint_points": "matrix"}
-
-
-@dataclass(frozen=True)
-class Generated:
-    """One CasADi function and what the manifest says about it."""
-
-    quantity: str
-    function: ca.Function
-    doc: str
 
 
 def relative_input(path: Path) -> str:
@@ -79,113 +68,6 @@ def input_hash(desc: Description) -> str:
         h.update(f"{label}\0{len(data)}\0".encode())
         h.update(data)
     return h.hexdigest()
-
-
-def functions(model: Model) -> list[Generated]:
-    """The CasADi functions generated for one robot."""
-    s, lag, con = model.sym, model.lagrangian, model.constraints
-    n, n_p = len(s.q), len(s.p)
-    q, qd, qdd, tau = (ca.SX.sym(k, n) for k in ("q", "qd", "qdd", "tau"))
-    p = ca.SX.sym("p", n_p)
-    mapping = {sym: var[i] for syms, var in ((s.q, q), (s.qd, qd), (s.qdd, qdd), (s.tau, tau),
-                                             (s.p, p)) for i, sym in enumerate(syms)}
-    tr = Translator(mapping)
-    name = model.desc.name
-    M, h, g = tr.matrix(lag.mass_matrix), tr.matrix(lag.bias), tr.matrix(lag.gravity)
-
-    def fn(quantity, ins, outs, doc):
-        # densify: CasADi drops structural zeros (e.g. dqdd/dq of a gravity-free arm), but the
-        # runtime and the C batch layout read every output as a dense column-major block
-        f = ca.Function(f"{name}_{quantity}", [v for _, v in ins],
-                        [ca.densify(v) for _, v in outs], [k for k, _ in ins],
-                        [k for k, _ in outs])
-        return Generated(quantity, f, doc)
-
-    out = [
-        fn("mass_matrix", [("q", q), ("p", p)], [("M", M)], "mass matrix M(q)"),
-        fn("bias", [("q", q), ("qd", qd), ("p", p)], [("h", h)],
-           "h(q, qd) = C(q, qd) qd + g(q): velocity and gravity terms"),
-        fn("gravity", [("q", q), ("p", p)], [("g", g)], "gravity terms g(q) = dV/dq"),
-        fn("inverse_dynamics", [("q", q), ("qd", qd), ("qdd", qdd), ("p", p)],
-           [("tau", ca.mtimes(M, qdd) + h)], "tree inverse dynamics tau = M qdd + h"),
-        fn("energy", [("q", q), ("qd", qd), ("p", p)],
-           [("kinetic", tr(lag.kinetic)), ("potential", tr(lag.potential))],
-           "kinetic and potential energy (J)"),
-        fn("frames", [("q", q), ("p", p)], [("frames", tr.matrix(model.frames))],
-           "every body's frame: origin x, origin y (m), angle (rad); one row per body"),
-        # component rows, one column per body or point: each component of all bodies is
-        # contiguous per sample, which is how the runtime's Newton-Euler reads them
-        fn("body_motion", [("q", q), ("qd", qd), ("qdd", qdd), ("p", p)],
-           [("accelerations", tr.matrix(model.body_accelerations.T)),
-            ("cg", tr.matrix(model.cg_positions.T)),
-            ("joint_points", tr.matrix(model.joint_points.T))],
-           "what Newton-Euler needs, exact, one column per body (as frames' rows): cg "
-           "acceleration x, y (m/s^2) and angular acceleration (rad/s^2) rows; cg x, y (m) rows; "
-           "joint_points x, y rows, one column per joint's child point (m; the manifest's "
-           "joints: tree joints, then cuts), then per cut's parent point, then per prismatic "
-           "joint's slide axis in world axes"),
-    ]
-    if model.task.shape[0]:  # a robot without [task] has no tool point to report
-        out.insert(5, fn("task", [("q", q), ("qd", qd), ("p", p)],
-                         [("x", tr.matrix(model.task)), ("J", tr.matrix(model.task_jacobian)),
-                          ("jdot_qd", tr.matrix(model.task_jdot_qd))],
-                         "task coordinates x(q) (m, rad), Jacobian J = dx/dq and Jdot qd"))
-    if con.count == 0:
-        qdd_free = ca.solve(M, tau - h)
-        out.append(fn("forward_dynamics", [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
-                      [("qdd", qdd_free)], "forward dynamics qdd = M^-1 (tau - h)"))
-        out.append(fn("forward_dynamics_jacobian",
-                      [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
-                      [("dqdd_dq", ca.jacobian(qdd_free, q)),
-                       ("dqdd_dqd", ca.jacobian(qdd_free, qd))],
-                      "Jacobian of the forward dynamics, for implicit integrators"))
-    else:
-        out += [
-            fn("constraint", [("q", q), ("p", p)], [("phi", tr.matrix(con.phi))],
-               "loop-closure residual Phi(q) (m)"),
-            fn("constraint_jacobian", [("q", q), ("p", p)], [("phi_q", tr.matrix(con.jacobian))],
-               "constraint Jacobian Phi_q = dPhi/dq"),
-            fn("constraint_bias", [("q", q), ("qd", qd), ("p", p)],
-               [("gamma", tr.matrix(con.accel_bias))],
-               "acceleration term gamma = -(Phi_q qd)_q qd, so Phi_q qdd = gamma"),
-            fn("constrained_terms", [("q", q), ("qd", qd), ("p", p)],
-               [("M", M), ("h", h), ("phi_q", tr.matrix(con.jacobian)),
-                ("gamma", tr.matrix(con.accel_bias))],
-               "M, h, Phi_q and gamma in one call: everything a KKT solve needs"),
-            _closed_inverse_dynamics(fn, model, q, qd, qdd, p, ca.mtimes(M, qdd) + h,
-                                     tr.matrix(con.jacobian), tr.matrix(con.phi),
-                                     tr.matrix(con.accel_bias)),
-        ]
-    return out
-
-
-def _closed_inverse_dynamics(fn, model: Model, q, qd, qdd, p, b, jac, phi, gamma) -> Generated:
-    """Torques, cut-joint forces, the singularity measure and the loop residuals, fused.
-
-    ``[S^T Phi_q^T][tau; lambda] = b`` splits into ``Phi_p^T lambda = b_p`` (passive rows)
-    and ``tau = b_a - Phi_a^T lambda``; the whole matrix is singular exactly when ``Phi_p`` is,
-    so its 1-norm condition number ``||Phi_p^T||_1 ||Phi_p^-T||_1`` is the measure. The
-    residuals ``Phi``, ``Phi_q qd`` and ``Phi_q qdd - gamma`` let the runtime refuse a state
-    that is off the loops, at the cost of a few products: one function shares every sine and
-    cosine between the dynamics and the constraints.
-    """
-    act = list(model.desc.actuated)
-    pas = [i for i in range(len(model.sym.q)) if i not in act]
-    pt = jac[:, pas].T
-    inv = ca.inv(pt)  # m is 2 or 4 here: explicit, and the condition number needs it anyway
-    lam = ca.mtimes(inv, b[pas])
-    tau = b[act] - ca.mtimes(jac[:, act].T, lam)
-
-    def norm1(a):
-        return ca.mmax(ca.sum1(ca.fabs(a)))
-
-    return fn("closed_inverse_dynamics", [("q", q), ("qd", qd), ("qdd", qdd), ("p", p)],
-              [("tau", tau), ("lambda", lam), ("cond", norm1(pt) * norm1(inv)),
-               ("phi", phi), ("phi_v", ca.mtimes(jac, qd)),
-               ("phi_a", ca.mtimes(jac, qdd) - gamma)],
-              "closed-chain torques tau (actuated), cut-joint forces lambda and the 1-norm "
-              "condition number of Phi_p, from M qdd + h = S^T tau + Phi_q^T lambda; and the "
-              "loop residuals Phi (m), Phi_q qd (m/s), Phi_q qdd - gamma (m/s^2)")
 
 
 def _batch_wrapper(g: Generated) -> str:
@@ -215,8 +97,7 @@ def _batch_wrapper(g: Generated) -> str:
     return "\n".join(lines)
 
 
-def _header_comment(model: Model, file: str, digest: str) -> str:
-    desc = model.desc
+def _header_comment(desc: Description, file: str, digest: str) -> str:
     params = desc.parameters()
     lines = [
         f"{file}: generated by {GENERATOR}",
@@ -234,13 +115,41 @@ def _header_comment(model: Model, file: str, digest: str) -> str:
     return "/* " + "\n * ".join(lines) + "\n */\n"
 
 
-def render(model: Model) -> dict[str, bytes]:
-    """All generated files of one robot, as bytes (nothing written yet)."""
-    from . import printing
+#: the functions the runtime calls over many samples at once (``Robot``'s fast paths), which
+#: get a vectorised loop in ``<robot>_simd.c``; the others (the integrators' Jacobian, the task
+#: map, frames, the KKT terms) are called through the exact library only
+LOOPED = ("mass_matrix", "bias", "gravity", "inverse_dynamics", "energy", "forward_dynamics",
+          "body_motion", "constraint", "constraint_jacobian", "constraint_bias",
+          "closed_inverse_dynamics")
 
-    desc, name = model.desc, model.desc.name
+#: what ``--equations`` can ask for: closed forms where they fit, or always, or never
+EQUATIONS = ("auto", "closed", "structure")
+
+
+def render(desc: Description, equations: str = "auto") -> dict[str, bytes]:
+    """All generated files of one robot, as bytes (nothing written yet).
+
+    The code comes from algorithmic differentiation of the recursive kinematics, or per
+    function from the expanded closed forms where those have fewer operations; the closed
+    forms are derived (and printed) only where they fit (``size.py``) or are asked for.
+    """
+    name = desc.name
     digest = input_hash(desc)
-    gens = functions(model)
+    ad = ad_dynamics.quantities(desc)
+    routes = [functions(ad)]
+    closed = equations == "closed" or (equations == "auto" and sizes.measure(desc).closed_forms_fit)
+    if closed:
+        from . import closed_route, model, printing
+
+        sym_model = model.build(desc)
+        routes.insert(0, functions(closed_route.quantities(sym_model, ad.sym)))
+    gens = choose(*routes)
+    if closed:
+        eq = printing.render(sym_model)
+    else:
+        from . import report_structure
+
+        eq = report_structure.render(desc, {g.quantity: (g.operations, g.route) for g in gens})
     cg = ca.CodeGenerator(name, {"with_header": False, "casadi_real": "double",
                                  "casadi_int": "long long int"})
     for g in gens:
@@ -248,26 +157,29 @@ def render(model: Model) -> dict[str, bytes]:
     body = _generate(cg, name)
     hash_fn = (f"CASADI_SYMBOL_EXPORT const char *{name}_input_hash(void) "
                f'{{ return "{digest}"; }}\n')
-    c_src = (_header_comment(model, f"{name}.c", digest) + body + "\n" + hash_fn + "\n"
+    c_src = (_header_comment(desc, f"{name}.c", digest) + body + "\n" + hash_fn + "\n"
              + "\n".join(_batch_wrapper(g) for g in gens))
-    h_src = _header_comment(model, f"{name}.h", digest) + _header(model, gens)
-    simd_src = (_header_comment(model, f"{name}_simd.c", digest) + simd.PRELUDE
-                + f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) '
-                  f'{{ return "{digest}"; }}\n\n'
-                + "\n".join(simd.loop_source(g.function) for g in gens))
-    eq = printing.render(model)
+    h_src = _header_comment(desc, f"{name}.h", digest) + _header(desc, gens)
+    looped = [g for g in gens if g.quantity in LOOPED]
+    simd_units = simd.units([g.operations for g in looped])
+    simd_src = (_header_comment(desc, f"{name}_simd.c", digest) + simd.PRELUDE
+                + simd.in_unit(0, f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) '
+                                  f'{{ return "{digest}"; }}\n')
+                + "\n".join(simd.in_unit(u, simd.loop_source(g.function))
+                             for g, u in zip(looped, simd_units)))
     files = {
         f"{name}.c": c_src.encode(),
         f"{name}.h": h_src.encode(),
         f"{name}_simd.c": simd_src.encode(),
-        "equations.txt": (_text_header(model, "equations.txt", digest) + eq["text"]).encode(),
-        "equations.tex": (_text_header(model, "equations.tex", digest, "%") + eq["latex"]).encode(),
+        "equations.txt": (_text_header(desc, "equations.txt", digest) + eq["text"]).encode(),
+        "equations.tex": (_text_header(desc, "equations.tex", digest, "%") + eq["latex"]).encode(),
         # the same header as an HTML comment: hidden when GitHub renders the Markdown
-        "equations.md": ("<!--\n" + _text_header(model, "equations.md", digest, " ").rstrip()
+        "equations.md": ("<!--\n" + _text_header(desc, "equations.md", digest, " ").rstrip()
                          + "\n-->\n\n" + eq["markdown"]).encode(),
     }
     files.update({f"{g.quantity}.casadi": _saved(g.function) for g in gens})
-    files["manifest.json"] = _manifest(model, gens, digest, files)
+    files["manifest.json"] = _manifest(desc, gens, digest, files, simd_units,
+                                       "closed form" if closed else "structure")
     return files
 
 
@@ -288,14 +200,14 @@ def _saved(function: ca.Function) -> bytes:
         return path.read_bytes()
 
 
-def _header(model: Model, gens: list[Generated]) -> str:
+def _header(desc: Description, gens: list[Generated]) -> str:
     """The C header: sizes as macros, and every function's one-sample, batch and loop forms."""
-    name, up = model.desc.name, model.desc.name.upper()
+    name, up = desc.name, desc.name.upper()
     lines = [f"#ifndef PLANAR_SYM_{up}_H", f"#define PLANAR_SYM_{up}_H",
              "#ifndef casadi_real", "#define casadi_real double", "#endif",
              "#ifndef casadi_int", "#define casadi_int long long int", "#endif",
-             f"#define {up}_N_Q {len(model.sym.q)}  /* coordinates */",
-             f"#define {up}_N_P {len(model.sym.p)}  /* parameters */",
+             f"#define {up}_N_Q {len(desc.coordinates)}  /* coordinates */",
+             f"#define {up}_N_P {len(desc.parameters())}  /* parameters */",
              f"const char *{name}_input_hash(void);"]
     for g in gens:
         f = g.function
@@ -308,15 +220,17 @@ def _header(model: Model, gens: list[Generated]) -> str:
                   (f"int {f.name()}_work(casadi_int *sz_arg, casadi_int *sz_res, "
                    "casadi_int *sz_iw, casadi_int *sz_w);"),
                   f"const casadi_int *{f.name()}_sparsity_in(casadi_int i);",
-                  f"int {f.name()}_batch({args});",
-                  f"/* in {name}_simd.c: the same over n samples, vectorisable, outputs row-major */",
-                  (f"int {f.name()}_loop(long long n, const double *const *in, "
-                   "double *const *out);")]
+                  f"int {f.name()}_batch({args});"]
+        if g.quantity in LOOPED:
+            lines += [(f"/* in {name}_simd.c: the same over n samples, vectorisable, outputs "
+                      "row-major */"),
+                      (f"int {f.name()}_loop(long long n, const double *const *in, "
+                       "double *const *out);")]
     return "\n".join(lines + ["#endif", ""])
 
 
-def _text_header(model: Model, file: str, digest: str, mark: str = "#") -> str:
-    return (f"{mark} {file}: generated by {GENERATOR} from {relative_input(model.desc.path)}\n"
+def _text_header(desc: Description, file: str, digest: str, mark: str = "#") -> str:
+    return (f"{mark} {file}: generated by {GENERATOR} from {relative_input(desc.path)}\n"
             f"{mark} input hash: sha256:{digest}\n{mark} do not edit: run `make derive`\n\n")
 
 
@@ -351,15 +265,17 @@ def _actuators(desc: Description) -> list[dict]:
     return out
 
 
-def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> bytes:
-    desc = model.desc
+def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict,
+              simd_units: list[int], equations: str) -> bytes:
     funcs = {}
     for g in gens:
         f = g.function
         funcs[g.quantity] = {
             "symbol": f.name(),
-            "loop": f.name() + "_loop",
+            **({"loop": f.name() + "_loop"} if g.quantity in LOOPED else {}),
             "casadi": f"{g.quantity}.casadi",
+            "route": g.route,
+            "operations": g.operations,
             "doc": g.doc,
             "inputs": [[f.name_in(i), f.size1_in(i) * f.size2_in(i)] for i in range(f.n_in())],
             "outputs": [[f.name_out(i), f.size1_out(i), f.size2_out(i),
@@ -377,15 +293,23 @@ def _manifest(model: Model, gens: list[Generated], digest: str, files: dict) -> 
         "actuated": list(desc.actuated),
         "q_drawn": list(desc.q_drawn()),
         "task": list(desc.task_names),
-        "bodies": list(model.body_names),
+        "bodies": [b for b in desc.bodies if b != GROUND],
         "loops": [j.name for j in desc.loop_joints],
         "joints": _joints(desc),
         "actuators": _actuators(desc),
-        "gravity_direction": [float(c) for c in gravity_direction(desc)],
-        "constraints": model.constraints.count,
+        "gravity_direction": list(ad_dynamics.gravity_unit(desc)),
+        "constraints": 2 * len(desc.loop_joints),
         "parameters": [{"name": p.name, "value": p.value, "unit": p.unit, "meaning": p.meaning}
                        for p in desc.parameters()],
         "matrix_layout": "column-major (CasADi); per-sample blocks row-major",
+        # what equations.txt holds: the expanded closed forms, or past derive/size.py's
+        # limit the structure they are computed from (no SymPy closed forms were derived)
+        "equations": equations,
+        # <robot>_simd.c compiles as these units (-DPLANAR_SYM_UNIT=k), in parallel: the
+        # operations per unit, so the runtime can choose flags by size
+        "compile_units": {"simd": [sum(g.operations for g, u in zip(
+            [g for g in gens if g.quantity in LOOPED], simd_units) if u == k)
+            for k in range(max(simd_units, default=-1) + 1)]},
         "functions": funcs,
         "files": {k: hashlib.sha256(v).hexdigest() for k, v in sorted(files.items())},
     }

@@ -36,6 +36,14 @@ _UNARY = {ca.OP_NEG: "(-{})", ca.OP_SIN: "sin({})", ca.OP_COS: "sin({} + M_PI_2)
           ca.OP_TANH: "tanh({})"}
 
 PRELUDE = """#include <math.h>
+/* compile units: built whole, or as units compiled in parallel, one per -DPLANAR_SYM_UNIT=k
+   (the manifest's compile_units), each holding some of the loops */
+#ifdef PLANAR_SYM_UNIT
+#define PLANAR_SYM_ALL 0
+#else
+#define PLANAR_SYM_ALL 1
+#define PLANAR_SYM_UNIT 0
+#endif
 /* samples per block: outputs are stored per block in sample-contiguous order (which gcc
    vectorises; interleaved groups of 49 stores would block it) and then copied out */
 #define BLOCK 32
@@ -48,6 +56,28 @@ PRELUDE = """#include <math.h>
 #define PLANAR_SYM_EXPORT __attribute__((visibility("default")))
 #endif
 """
+
+
+#: operations per compile unit: gcc's time and memory grow faster than the length of one
+#: function, so big robots' loops are compiled as several units, in parallel
+UNIT_OPS = 3000
+
+
+def units(operations: list[int]) -> list[int]:
+    """The compile unit of each loop, in file order: a new unit once ``UNIT_OPS`` is full (a
+    robot whose loops all fit in one compiles as one unit, as before)."""
+    out, unit, filled = [], 0, 0
+    for ops in operations:
+        if filled and filled + ops > UNIT_OPS:
+            unit, filled = unit + 1, 0
+        out.append(unit)
+        filled += ops
+    return out
+
+
+def in_unit(unit: int, source: str) -> str:
+    """``source`` compiled only in unit ``unit`` (and in a whole-file build)."""
+    return f"#if PLANAR_SYM_ALL || PLANAR_SYM_UNIT == {unit}\n{source}#endif\n"
 
 
 def _row_major(f: ca.Function, out: int, nz: int) -> int:

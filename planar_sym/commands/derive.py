@@ -25,6 +25,10 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path, required=True,
                    help="output folder; each robot goes to OUT/<name>/")
     p.add_argument("--no-build", action="store_true", help="write the C, do not compile it")
+    p.add_argument("--equations", choices=("auto", "closed", "structure"), default="auto",
+                   help="equations.txt/.tex/.md: the expanded closed forms up to 4 moving joints "
+                        "in a chain and 9 coordinates (auto), always (closed: minutes past "
+                        "about 6 links), or the structure they are computed from")
     p.set_defaults(fn=run)
 
 
@@ -64,7 +68,7 @@ def run(args) -> int:
     rendered = []
     for desc in descs:
         progress.step(f"deriving {desc.name} ({desc.path})")
-        name, files = derive_main.derive_robot(desc.path)
+        name, files = derive_main.derive_robot(desc.path, args.equations)
         if desc.path.resolve().parent != robots_dir():  # a built-in comes out as `make derive`
             files = {**files, DESCRIPTION_COPY: desc.path.read_bytes()}
         rendered.append((name, files))

@@ -18,7 +18,9 @@ import platform
 import shutil
 import subprocess
 import tempfile
+import threading
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +30,13 @@ from ..errors import InputError, LibraryError
 from .batch import FunctionSpec, shaped
 
 CFLAGS = ("-O3", "-fPIC", "-shared", "-std=c99")
+#: past this many operations in ``<robot>.c`` (a robot of about 10 links: the forward dynamics'
+#: Jacobian is O(n^3)), -O1: gcc's -O2/-O3 passes cost it 2.5x the time (7.4 s against 2.9 s at
+#: 12 links) on straight-line code they barely speed up (see BENCHMARKS.md, growth)
+BIG_OPS = 20000
+BIG_CFLAGS = ("-O1", "-fPIC", "-shared", "-std=c99")
+#: compilers running at once, across threads (the exact library and the loops' units)
+_JOBS = threading.BoundedSemaphore(max(1, os.cpu_count() or 1))
 _DIR = Path(__file__).resolve().parent  # planar_sym/model: _fastcall.c
 _PKG = _DIR.parent  # planar_sym: generated/ ships inside it
 
@@ -107,6 +116,12 @@ def _machine_key() -> str:
     return hashlib.sha256("\n".join([platform.machine(), *lines]).encode()).hexdigest()[:8]
 
 
+def exact_flags(manifest: dict) -> tuple[str, ...]:
+    """Flags of ``<robot>.c`` by its size: -O3, or -O1 past ``BIG_OPS`` operations."""
+    ops = sum(f.get("operations", 0) for f in manifest.get("functions", {}).values())
+    return BIG_CFLAGS if ops > BIG_OPS else CFLAGS
+
+
 def library_path(folder: Path, manifest: dict, flavour: str = "exact") -> Path:
     """Cache path keyed by robot, input hash, the C source's own hash and the flags.
 
@@ -115,7 +130,7 @@ def library_path(folder: Path, manifest: dict, flavour: str = "exact") -> Path:
     """
     robot = manifest["robot"]
     source = f"{robot}.c" if flavour == "exact" else f"{robot}_{flavour}.c"
-    flags = CFLAGS if flavour == "exact" else SIMD_CFLAGS + (_machine_key(),)
+    flags = exact_flags(manifest) if flavour == "exact" else SIMD_CFLAGS + (_machine_key(),)
     key = hashlib.sha256(" ".join([*flags, manifest.get("files", {}).get(source, "")])
                          .encode()).hexdigest()[:8]
     suffix = "" if flavour == "exact" else f"-{flavour}"
@@ -123,11 +138,14 @@ def library_path(folder: Path, manifest: dict, flavour: str = "exact") -> Path:
 
 
 def compile_shared(sources: list[Path], target: Path, cflags, extra: tuple = (),
-                   link_flags: tuple = ("-lm",), force: bool = False) -> Path:
+                   link_flags: tuple = ("-lm",), force: bool = False,
+                   units: list[tuple[str, ...]] | None = None) -> Path:
     """Compile ``sources`` into the shared library ``target``: locked, renamed into place.
 
-    Concurrent builders of the same target wait on the lock and then reuse the result, so no
-    process ever loads a half-written library.
+    ``units``: compile each source once per entry with those extra flags (``-DPLANAR_SYM_UNIT=k``
+    of a generated file split into units), the objects in parallel. Concurrent builders of
+    the same target wait on the lock and then reuse the result, so no process ever loads a
+    half-written library.
     """
     if _intact(target) and not force:
         return target
@@ -139,12 +157,19 @@ def compile_shared(sources: list[Path], target: Path, cflags, extra: tuple = (),
         if _intact(target) and not force:
             return target
         with tempfile.TemporaryDirectory(dir=target.parent) as tmp:
-            objs = []
-            for src in sources:
-                obj = Path(tmp) / (src.stem + ".o")
-                _run([_compiler(), *[f for f in cflags if f != "-shared"], *extra, "-c",
-                      "-o", str(obj), str(src)], src)
-                objs.append(str(obj))
+            cc = _compiler()
+            jobs = [(src, unit, Path(tmp) / f"{src.stem}.{k}.o")
+                    for src in sources for k, unit in enumerate(units or [()])]
+
+            def one(job):
+                src, unit, obj = job
+                with _JOBS:
+                    _run([cc, *[f for f in cflags if f != "-shared"], *extra, *unit, "-c",
+                          "-o", str(obj), str(src)], src)
+
+            with ThreadPoolExecutor(max(1, min(len(jobs), os.cpu_count() or 1))) as pool:
+                list(pool.map(one, jobs))  # re-raises the first failure
+            objs = [str(obj) for _, _, obj in jobs]
             out = Path(tmp) / target.name
             _run([_compiler(), "-shared", "-o", str(out), *objs, *link_flags], sources[0])
             stamp = Path(tmp) / "stamp"
@@ -199,7 +224,8 @@ def build(folder: Path, manifest: dict, force: bool = False) -> Path:
     path = library_path(folder, manifest)
     if not force and (pre := _prebuilt(folder, path)):
         return pre
-    return compile_shared([folder / f"{manifest['robot']}.c"], path, CFLAGS, force=force)
+    return compile_shared([folder / f"{manifest['robot']}.c"], path, exact_flags(manifest),
+                          force=force)
 
 
 def build_simd(folder: Path, manifest: dict, force: bool = False) -> Path | None:
@@ -210,7 +236,10 @@ def build_simd(folder: Path, manifest: dict, force: bool = False) -> Path | None
     path = library_path(folder, manifest, "simd")
     if not force and (pre := _prebuilt(folder, path)):
         return pre
-    return compile_shared([src], path, SIMD_CFLAGS, force=force)
+    units = manifest.get("compile_units", {}).get("simd", [0])
+    return compile_shared([src], path, SIMD_CFLAGS, force=force,
+                          units=[(f"-DPLANAR_SYM_UNIT={k}",) for k in range(len(units))]
+                          if len(units) > 1 else None)
 
 
 _FASTCALL = None
@@ -325,6 +354,15 @@ class BatchFunction:
         return shaped(self.spec, n, list(outs.values()))
 
 
+def _try_build_simd(folder: Path, manifest: dict) -> tuple[Path | None, LibraryError | None]:
+    """``build_simd``'s library, or the error that stopped it (the caller warns: a robot
+    without its loops still works, on the exact path)."""
+    try:
+        return build_simd(folder, manifest), None
+    except LibraryError as exc:
+        return None, exc
+
+
 class Library:
     """A robot's compiled functions, checked against its manifest."""
 
@@ -337,18 +375,24 @@ class Library:
         specs = {q: FunctionSpec(f["symbol"], tuple(map(tuple, f["inputs"])),
                                  tuple(map(tuple, f["outputs"])))
                  for q, f in self.manifest["functions"].items()}
-        try:
-            self.path = build(self.folder, self.manifest)
-        except NoCompiler as exc:
-            if not all("casadi" in f for f in self.manifest["functions"].values()):
-                raise  # a folder derived before the saved functions: nothing to fall back on
-            from .evaluator import CasadiFunction, no_compiler_warning
+        # the loops compile beside the exact library: two compilers at once on a first use
+        with ThreadPoolExecutor(1) as pool:
+            simd_job = pool.submit(_try_build_simd, self.folder, self.manifest)
+            try:
+                self.path = build(self.folder, self.manifest)
+            except NoCompiler as exc:
+                if not all("casadi" in f for f in self.manifest["functions"].values()):
+                    raise  # a folder derived before the saved functions: nothing to fall back on
+                from .evaluator import CasadiFunction, no_compiler_warning
 
-            no_compiler_warning(robot, str(exc).split(" (")[0])
-            self.path, self.lib, self.simd = None, None, None
-            self.functions = {q: CasadiFunction(self.folder / self.manifest["functions"][q]
-                                                ["casadi"], spec) for q, spec in specs.items()}
-            return
+                no_compiler_warning(robot, str(exc).split(" (")[0])
+                self.path, self.lib, self.simd = None, None, None
+                self.functions = {q: CasadiFunction(self.folder / self.manifest["functions"][q]
+                                                    ["casadi"], spec)
+                                  for q, spec in specs.items()}
+                return
+            finally:
+                simd_path, simd_error = simd_job.result()
         try:
             self.lib = self._load(self.path)
         except CorruptLibrary as exc:  # truncated or overwritten cache file: build it anew
@@ -357,12 +401,9 @@ class Library:
             self.path = build(self.folder, self.manifest, force=True)
             self.lib = self._load(_fresh_name(self.path), private_copy=True)
         self.simd = None  # the vectorised sample loops, where this machine can build them
-        try:
-            simd_path = build_simd(self.folder, self.manifest)
-        except LibraryError as exc:
-            warnings.warn(f"{robot}: vectorised loops not built, using the exact path: {exc}",
-                          RuntimeWarning, stacklevel=2)
-            simd_path = None
+        if simd_error is not None:
+            warnings.warn(f"{robot}: vectorised loops not built, using the exact path: "
+                          f"{simd_error}", RuntimeWarning, stacklevel=2)
         if simd_path is not None:
             try:
                 self.simd = self._load(simd_path, f"{robot}_simd_input_hash")

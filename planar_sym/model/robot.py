@@ -222,6 +222,8 @@ class Robot:
         kinds = {"scalar": 0, "vector": 1, "matrix": 2}
         for attr, quantity in methods.items():
             spec = self.library.manifest["functions"][quantity]
+            if "loop" not in spec:  # derive makes loops only for these (codegen.LOOPED)
+                continue
             ins = [(name, size) for name, size in spec["inputs"]]
             names = tuple(name for name, _ in ins if name != "p")
             caller = fast.make(
