@@ -5,6 +5,8 @@ reported as median [min-max] and as a ratio to that baseline; see ``timing.py``.
 ``inverse`` (inverse dynamics vs Pinocchio, MuJoCo, lambdify, a hand-written C floor),
 ``forward`` (work-precision of forward dynamics), ``build`` (derive and compile times),
 ``actuators`` (what actuator models add to derivation, generated C and compiled evaluation),
+``growth`` (derive, compile, code size and run time of n-link chains and a three-loop linkage
+against the number of links, fitted exponents, native Pinocchio as the run-time baseline),
 ``imports`` (import and first-torque latency).
 """
 
@@ -40,6 +42,15 @@ class Config:
     actuator_pairs: tuple[str, ...] = ("tree", "closed")  # plain vs actuated 2-DOF, five-bar
     actuator_rounds: int = 5  # interleaved derivations and compilations per robot
     actuator_samples: int = 10_000
+    growth_sizes: tuple[int, ...] = (2, 4, 6, 8, 10, 12)  # links of the n-link pendulums
+    growth_jansen: bool = True  # also the three-loop Jansen linkage (7 coordinates)
+    growth_build_repeats: int = 3  # rounds of derive + first compile per robot
+    growth_samples: int = 100_000  # states per call for the per-sample times
+    growth_pin_samples: int = 100_000  # of those, the ones native Pinocchio runs
+    growth_rounds: int = 5  # rounds of per-sample timing (each: best of growth_best_of)
+    growth_best_of: int = 3
+    growth_pinocchio: bool = True  # build and time native Pinocchio (about 45 s, once, cached)
+    growth_fit_from: int = 4  # fit the growth exponents over the chains from this size on
 
     @classmethod
     def quick_config(cls) -> Config:
@@ -48,4 +59,7 @@ class Config:
                    mujoco_dts=(1e-3, 1e-4), sim_repeats=1, radau_check=False,
                    derive_robots=("serial_2dof",),
                    build_robots=("serial_2dof",), build_repeats=1, import_repeats=2,
-                   actuator_pairs=("tree",), actuator_rounds=1)
+                   actuator_pairs=("tree",), actuator_rounds=1,
+                   growth_sizes=(2, 4), growth_jansen=False, growth_build_repeats=1,
+                   growth_samples=10_000, growth_pin_samples=10_000, growth_rounds=2,
+                   growth_best_of=2, growth_pinocchio=False)

@@ -16,7 +16,8 @@ from . import Config
 from .machine import describe, load_now
 from .report import markdown, print_section
 
-SECTIONS = ("inverse", "ik", "forward", "build", "actuators", "imports", "control", "design")
+SECTIONS = ("inverse", "ik", "forward", "build", "actuators", "growth", "imports", "control",
+            "design")
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / "BENCHMARKS.md"
 
 

@@ -1,0 +1,485 @@
+"""Section 3c: how the cost grows with the robot's size, from the description to a torque.
+
+Robots: the n-link pendulum of ``chains.py`` (every joint actuated) for the sizes of
+``Config.growth_sizes`` (2 to 12 links), and the three-loop Jansen linkage
+``examples/jansen_linkage.toml`` (7 coordinates, 3 loops, 1 actuated crank). Each robot is
+derived, compiled and timed on its own, one after the other (one size at a time: the machine
+has few cores and the compiler runs in parallel). Why: the generated code comes from
+algorithmic differentiation of the energies of a recursive kinematics, with the sample loops
+split into compile units compiled in parallel and ``-O1`` for a very big exact file, so that
+deriving, compiling and running grow gently with the number of links; this section measures
+that growth and fits its exponents.
+
+* **derive**: ``python -m derive DESCRIPTION --out TMP`` in a fresh subprocess: its wall time,
+  and derive's own ``derived NAME in X s`` (description, derivation, C generation; imports and
+  compilation excluded). Baseline, same round: a subprocess that only imports what derive
+  imports (``sympy``, ``casadi``, ``derive``).
+* **first compile**: a fresh subprocess with an empty ``PLANAR_SYM_CACHE`` and
+  ``PLANAR_SYM_PREBUILT=0`` constructs ``planar_sym.model.library.Library(name, folder)`` on the
+  derived folder, which compiles the exact library and the vectorised loops' compile units in
+  parallel: wall time of the subprocess, and the **peak memory of one compiler process**: the
+  subprocess's ``getrusage(RUSAGE_CHILDREN).ru_maxrss`` after the build (the largest resident set
+  of any waited-for descendant: the biggest ``cc1``; two compilers run at once, so the machine
+  may hold up to about twice that). Baseline, same round: the same subprocess again on the now
+  filled cache (interpreter, import and loading without compiling). Derive plus first compile
+  (both walls) is held against the targets: under 30 s up to 8 links (the 8-link target; the
+  Jansen linkage, 7 coordinates, too), under 60 s up to 12, peak compiler memory under 2 GB.
+* **generated code**: bytes of ``<name>.c`` (exact, per sample) and ``<name>_simd.c`` (the sample
+  loops); the operations of all generated functions (sum of the manifest's per-function
+  ``operations``); the loops' compile units (manifest ``compile_units``); the exact file's
+  optimisation flag (``library.exact_flags``); each function's route (closed form or
+  algorithmic differentiation: all functions, then inverse dynamics, mass matrix and forward
+  dynamics); and ``equations.txt``: its bytes, and whether it prints the expanded closed forms
+  or the structure (the structure report says so).
+* **run time per sample**, the public API on N random states (q uniform in [-pi, pi], qd and
+  qdd in [-3, 3]): ``inverse_dynamics``, ``mass_matrix`` and ``forward_dynamics`` (with the
+  torques of the inverse dynamics). The Jansen linkage: ``closed_chain_inverse_dynamics`` on
+  one crank revolution from the drawn pose (``closure.from_actuated``, crank rate and
+  acceleration uniform in [-3, 3]; the states are on the loops), ``mass_matrix`` on the same
+  q; no forward dynamics (a closed chain is simulated with ``simulate``). Per round each
+  function is timed best of a few blocks.
+* **baseline**: native Pinocchio (``baselines/pinocchio_native.py``: ``pinocchio::rnea`` in a
+  C++ loop over the same states, built once with ``-O3 -march=native``), on the URDF written by
+  ``python -m planar_sym export FOLDER --format urdf``; in each round its best pass of as many
+  passes, so the ratio Pinocchio / planar_sym is formed per round. Gate before timing: its
+  torques match ours to 1e-9 (worst per-sample relative error). Target: at least 10x at every
+  n up to 12. The Jansen linkage has no URDF (trees only).
+* **growth exponents**: least squares of log(value) on log(n) over the chains from
+  ``Config.growth_fit_from`` links (4) on, medians; value ~ n^p, and 2^p per doubling of n.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import Config
+from .inverse import GATE, rel_err, serial_states
+from .report import Check, Section, Table
+from .timing import Stats, _block, calibrate, fmt_ratio, fmt_time, ratio
+
+ROOT = Path(__file__).resolve().parent.parent
+JANSEN = ROOT / "examples" / "jansen_linkage.toml"
+MEMORY_TARGET_B = 2e9
+RATIO_TARGET = 10.0
+ROUTES = {"closed form": "CF", "algorithmic differentiation": "AD"}
+
+#: run in the compile subprocess: first use of the derived folder, then what its compilers took
+COMPILE = """
+import json, resource, sys, time
+from pathlib import Path
+t0 = time.perf_counter()
+from planar_sym.model.library import Library
+lib = Library(sys.argv[1], Path(sys.argv[2]))
+print(json.dumps({"library_s": time.perf_counter() - t0, "simd": lib.simd is not None,
+                  "maxrss_kib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss}))
+"""
+
+
+def target_s(n: int) -> float | None:
+    """The derive + first compile target for a robot of n links (or coordinates)."""
+    return 30.0 if n <= 8 else 60.0 if n <= 12 else None
+
+
+@dataclass
+class Robot:
+    """One robot's measurements (lists: one value per round)."""
+
+    label: str
+    n: int  # links (chains) or coordinates (Jansen)
+    chain: bool
+    derive_wall: list[float] = field(default_factory=list)
+    derive_own: list[float] = field(default_factory=list)
+    imports: list[float] = field(default_factory=list)
+    compile_wall: list[float] = field(default_factory=list)
+    compile_lib: list[float] = field(default_factory=list)
+    warm_wall: list[float] = field(default_factory=list)
+    maxrss_kib: list[int] = field(default_factory=list)
+    simd_built: bool = True
+    code: dict = field(default_factory=dict)
+    run: dict[str, Stats] = field(default_factory=dict)
+    pin: Stats | None = None
+    pin_ratio: Stats | None = None
+    pin_rnea: Stats | None = None  # rnea alone, inputs packed beforehand
+    pin_note: str = ""
+
+
+def _timed(cmd: list[str], env: dict | None = None, cwd: Path = ROOT):
+    """(wall time, finished process) of one subprocess; raises if it failed."""
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, check=False)
+    wall = time.perf_counter() - t0
+    if proc.returncode != 0:
+        raise RuntimeError(f"{' '.join(map(str, cmd))} failed ({proc.returncode}):\n"
+                           f"{proc.stderr[-3000:]}")
+    return wall, proc
+
+
+def _env(cache: Path) -> dict:
+    env = {**os.environ, "PLANAR_SYM_CACHE": str(cache), "PLANAR_SYM_PREBUILT": "0"}
+    env.pop("PLANAR_SYM_EXACT", None)
+    return env
+
+
+def _build_rounds(r: Robot, toml: Path, work: Path, repeats: int) -> tuple[Path, Path]:
+    """Derive and first-compile ``repeats`` times; returns round 0's folder and its cache."""
+    keep = None
+    for k in range(repeats):
+        out, cache = work / f"derived{k}", work / f"cache{k}"
+        imports = [sys.executable, "-c", "import sympy, casadi, derive.model, derive.codegen"]
+        # the baseline before the candidate in even rounds, after it in odd ones
+        if k % 2 == 0:
+            r.imports.append(_timed(imports)[0])
+        wall, proc = _timed([sys.executable, "-m", "derive", str(toml), "--out", str(out)])
+        if k % 2 == 1:
+            r.imports.append(_timed(imports)[0])
+        found = re.findall(r"derived (\S+) in ([0-9.]+) s", proc.stderr)
+        if len(found) != 1:
+            raise RuntimeError(f"no 'derived NAME in X s' line from derive:\n{proc.stderr}")
+        name = found[0][0]
+        r.derive_wall.append(wall)
+        r.derive_own.append(float(found[0][1]))
+        folder = out / name
+        cmd = [sys.executable, "-W", "ignore", "-c", COMPILE, name, str(folder)]
+        wall, proc = _timed(cmd, _env(cache))
+        info = json.loads(proc.stdout.strip().splitlines()[-1])
+        r.compile_wall.append(wall)
+        r.compile_lib.append(info["library_s"])
+        r.maxrss_kib.append(int(info["maxrss_kib"]))
+        r.simd_built = r.simd_built and info["simd"]
+        r.warm_wall.append(_timed(cmd, _env(cache))[0])
+        if keep is None:
+            keep = (folder, cache)
+        else:
+            shutil.rmtree(out, ignore_errors=True)
+            shutil.rmtree(cache, ignore_errors=True)
+    return keep
+
+
+def _code(folder: Path) -> dict:
+    from planar_sym.model.library import exact_flags, read_manifest
+
+    m = read_manifest(folder)
+    name = m["robot"]
+    fns = m["functions"]
+    routes = [f.get("route", "?") for f in fns.values()]
+    eq = (folder / "equations.txt").read_text()
+    main = ("closed_inverse_dynamics" if m["constraints"] else "inverse_dynamics", "mass_matrix",
+            "forward_dynamics")
+    return {
+        "c": (folder / f"{name}.c").stat().st_size,
+        "simd": (folder / f"{name}_simd.c").stat().st_size
+        if (folder / f"{name}_simd.c").exists() else 0,
+        "ops": sum(f.get("operations", 0) for f in fns.values()),
+        "units": len(m.get("compile_units", {}).get("simd", [0])),
+        "flag": exact_flags(m)[0],
+        "cf": routes.count("closed form"), "ad": routes.count("algorithmic differentiation"),
+        "main": ", ".join(ROUTES.get(fns[q].get("route"), "?") if q in fns else "-"
+                          for q in main),
+        "eq": len(eq.encode()),
+        "eq_kind": "structure" if "structure" in eq else "closed forms",
+    }
+
+
+@contextmanager
+def _cache(path: Path):
+    old = os.environ.get("PLANAR_SYM_CACHE")
+    os.environ["PLANAR_SYM_CACHE"] = str(path)
+    try:
+        yield
+    finally:
+        if old is None:
+            del os.environ["PLANAR_SYM_CACHE"]
+        else:
+            os.environ["PLANAR_SYM_CACHE"] = old
+
+
+def _robot(name: str, folder: Path, cache: Path):
+    from planar_sym.model.library import Library
+    from planar_sym.model.robot import Robot as PsRobot
+
+    with _cache(cache):  # round 0's libraries: loaded, not compiled again
+        return PsRobot(name, Library(name, folder))
+
+
+def _jansen_states(robot, size: int, seed: int = 1):
+    """One crank revolution from the drawn pose, on the loops; rates uniform in [-3, 3]."""
+    from planar_sym.motion import closure
+
+    base = min(size, 10_000)
+    rng = np.random.default_rng(seed)
+    act = list(robot.actuated)
+    q_act = robot.q_drawn[act] + np.linspace(0.0, 2 * np.pi, base)[:, None]
+    jt = closure.from_actuated(robot, np.arange(base, dtype=float), q_act,
+                               rng.uniform(-3, 3, (base, len(act))),
+                               rng.uniform(-3, 3, (base, len(act))))
+    reps = -(-size // base)
+    return tuple(np.ascontiguousarray(np.tile(a, (reps, 1))[:size]) for a in (jt.q, jt.qd, jt.qdd))
+
+
+def _best(fn, number: int, best_of: int) -> float:
+    return min(_block(fn, number) / number for _ in range(best_of))
+
+
+def _time_run(r: Robot, robot, cfg: Config, sec: Section, urdf: Path | None, exe) -> None:
+    from .baselines import pinocchio_native as pn
+
+    n_s = cfg.growth_samples
+    if r.chain:
+        q, qd, qdd = serial_states(robot.n, n_s, seed=1)
+        tau = robot.inverse_dynamics(q, qd, qdd)
+        fns = {"ID": lambda: robot.inverse_dynamics(q, qd, qdd),
+               "M": lambda: robot.mass_matrix(q),
+               "FD": lambda: robot.forward_dynamics(q, qd, tau)}
+    else:
+        q, qd, qdd = _jansen_states(robot, n_s)
+        fns = {"ID": lambda: robot.closed_chain_inverse_dynamics(q, qd, qdd),
+               "M": lambda: robot.mass_matrix(q)}
+    numbers = {k: calibrate(f, cfg.min_block_s) for k, f in fns.items()}
+    pin_ok = False
+    if urdf is not None and exe is not None:
+        pin_n = min(cfg.growth_pin_samples, n_s)
+        tp, _, _ = pn.time_rnea(urdf, q[:pin_n], qd[:pin_n], qdd[:pin_n], 1, exe=exe)
+        check = Check(f"{r.label}: native Pinocchio rnea vs planar_sym inverse_dynamics "
+                      f"({pin_n} random states)", rel_err(tp, tau[:pin_n]), GATE)
+        sec.checks.append(check)
+        pin_ok = check.ok
+        if not check.ok:
+            r.pin_note = (f"**FAIL: Pinocchio disagrees** (worst relative error "
+                          f"{check.error:.2e} > {GATE:g}): not timed")
+    out: dict[str, list[float]] = {k: [] for k in fns}
+    pins: list[float] = []
+    rneas: list[float] = []
+    names = list(fns)
+    for k in range(cfg.growth_rounds):
+        order = names[k % len(names):] + names[:k % len(names)]
+        for key in order:
+            out[key].append(_best(fns[key], numbers[key], cfg.growth_best_of) / n_s)
+        if pin_ok:
+            pin_n = min(cfg.growth_pin_samples, n_s)
+            got = pn.run(urdf, q[:pin_n], qd[:pin_n], qdd[:pin_n], cfg.growth_best_of, exe=exe)
+            pins.append(got["best_ns"] * 1e-9)
+            rneas.append(got["rnea_best_ns"] * 1e-9)
+    r.run = {k: Stats(tuple(v)) for k, v in out.items()}
+    if pins:
+        r.pin, r.pin_rnea = Stats(tuple(pins)), Stats(tuple(rneas))
+        r.pin_ratio = ratio(r.pin, r.run["ID"])
+
+
+def _export_urdf(toml: Path, folder: Path, cache: Path, work: Path) -> Path:
+    shutil.copyfile(toml, folder / "description.toml")  # what export reads the bodies from
+    urdf = work / f"{folder.name}.urdf"
+    _timed([sys.executable, "-m", "planar_sym", "export", str(folder), "--format", "urdf",
+            "--out", str(urdf), "--quiet"], _env(cache))
+    return urdf
+
+
+def _pinocchio(cfg: Config):
+    """(executable, None) or (None, why not)."""
+    if not cfg.growth_pinocchio:
+        return None, "not run with --quick (no native Pinocchio build)"
+    try:
+        from .baselines import pinocchio_native as pn
+
+        return pn.build(), None
+    except (RuntimeError, OSError, ImportError) as exc:
+        return None, f"native Pinocchio baseline could not be built: {str(exc).splitlines()[0]}"
+
+
+def fit(ns, values) -> float | None:
+    """Exponent p of value ~ n^p, least squares in log-log."""
+    pts = [(math.log(n), math.log(v)) for n, v in zip(ns, values) if v and v > 0]
+    if len(pts) < 2:
+        return None
+    x, y = np.array(pts).T
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def _mib(kib: float) -> str:
+    return f"{kib / 1024:.0f} MiB"
+
+
+def _kib(b: float) -> str:
+    return f"{b / 1024:.0f} KiB"
+
+
+def _pf(ok: bool | None) -> str:
+    return "-" if ok is None else ("pass" if ok else "**fail**")
+
+
+def run(cfg: Config) -> Section:
+    sec = Section("growth", "3c. Growth with the robot's size", __doc__.split("\n\n", 1)[1])
+    exe, why_not = _pinocchio(cfg)
+    robots: list[Robot] = []
+    with tempfile.TemporaryDirectory(prefix="planar_sym_growth_") as tmp:
+        from .chains import write_chain
+
+        jobs = [(f"chain_{n}", n, True, lambda w, n=n: write_chain(n, w))
+                for n in cfg.growth_sizes]
+        if cfg.growth_jansen:
+            jobs.append(("jansen_linkage", 7, False, lambda w: JANSEN))
+        for label, n, chain, make in jobs:
+            work = Path(tmp) / label
+            work.mkdir()
+            toml = make(work)
+            r = Robot(label, n, chain)
+            folder, cache = _build_rounds(r, toml, work, cfg.growth_build_repeats)
+            r.code = _code(folder)
+            robot = _robot(folder.name, folder, cache)
+            urdf = None
+            if chain and exe is not None:
+                urdf = _export_urdf(toml, folder, cache, work)
+            elif not chain:
+                r.pin_note = "closed chain: no URDF (trees only)"
+            _time_run(r, robot, cfg, sec, urdf, exe)
+            del robot
+            robots.append(r)
+            print(f"  growth: {label} done", flush=True)
+            shutil.rmtree(work, ignore_errors=True)
+    _tables(sec, robots, cfg, why_not)
+    return sec
+
+
+def _tables(sec: Section, robots: list[Robot], cfg: Config, why_not: str | None) -> None:
+    reps = cfg.growth_build_repeats
+    t = Table(f"Derive and first compile, {reps} round(s) per robot; derive's ratio is to the "
+              "import-only subprocess of the same round, first compile's to the same subprocess "
+              "on the filled cache (no compiling) of the same round; peak memory is the largest "
+              "single compiler process (two run at once)",
+              ["robot", "derive (wall)", "ratio", "derive (own timing)", "first compile (wall)",
+               "ratio", "peak memory of one compiler", "derive + compile", "target", "time",
+               "memory"])
+    for r in robots:
+        dw, co = Stats(tuple(r.derive_wall)), Stats(tuple(r.compile_wall))
+        total = Stats(tuple(a + b for a, b in zip(r.derive_wall, r.compile_wall)))
+        goal = target_s(r.n)
+        peak = max(r.maxrss_kib)
+        t.add(r.label, dw, ratio(dw, Stats(tuple(r.imports))), Stats(tuple(r.derive_own)), co,
+              ratio(co, Stats(tuple(r.warm_wall))), _mib(peak), total,
+              f"< {goal:.0f} s, < 2 GB" if goal else "< 2 GB",
+              _pf(total.median < goal if goal else None),
+              _pf(peak * 1024 < MEMORY_TARGET_B))
+    sec.tables.append(t)
+
+    c = Table("Generated code (routes: closed form CF / algorithmic differentiation AD, over all "
+              "functions, then for inverse dynamics, mass matrix, forward dynamics)",
+              ["robot", "<name>.c", "<name>_simd.c", "operations", "loop compile units",
+               "exact flags", "routes CF / AD", "ID, M, FD", "equations.txt"])
+    for r in robots:
+        k = r.code
+        c.add(r.label, _kib(k["c"]), _kib(k["simd"]), f"{k['ops']:,}", str(k["units"]),
+              k["flag"], f"{k['cf']} / {k['ad']}", k["main"],
+              f"{_kib(k['eq'])} ({k['eq_kind']})")
+    sec.tables.append(c)
+
+    n_s = cfg.growth_samples
+    rt = Table(f"Per sample, N = {n_s:,} states, {cfg.growth_rounds} rounds of best-of-"
+               f"{cfg.growth_best_of}; ratio: native Pinocchio rnea over our inverse dynamics, "
+               f"per round (target >= {RATIO_TARGET:g}x up to 12 links)",
+               ["robot", "inverse dynamics", "mass matrix", "forward dynamics",
+                "Pinocchio rnea (native loop)", "of which rnea alone", "ratio", "target"])
+    for r in robots:
+        if r.pin is not None:
+            pin, alone, rat = r.pin, r.pin_rnea, r.pin_ratio
+            ok = rat.median >= RATIO_TARGET if r.n <= 12 else None
+        else:
+            pin, alone, rat, ok = r.pin_note or why_not or "-", "-", "-", None
+        rt.add(r.label + ("" if r.chain else " (closed_chain_inverse_dynamics, crank turn)"),
+               r.run["ID"], r.run["M"], r.run.get("FD", "-"), pin, alone, rat, _pf(ok))
+    sec.tables.append(rt)
+    if why_not:
+        sec.notes.append(why_not)
+    if any(not r.simd_built for r in robots):
+        sec.notes.append("vectorised loops NOT built for: "
+                         + ", ".join(r.label for r in robots if not r.simd_built))
+
+    chains = [r for r in robots if r.chain]
+    fitted = [r for r in chains if r.n >= cfg.growth_fit_from]
+    if len(fitted) < 2:
+        fitted = chains
+    ns = [r.n for r in fitted]
+    span = f"n = {min(ns)}..{max(ns)}" if ns else "-"
+    # past size.py's limits a chain derives no closed forms: its every function is AD
+    ad = [k for k, r in enumerate(fitted) if r.code["eq_kind"] == "structure"]
+    ad_span = (f"n = {fitted[ad[0]].n}..{fitted[ad[-1]].n}" if len(ad) >= 2 else "")
+    f = Table(f"Growth exponents p (value ~ n^p), log-log least squares over the chains, {span} "
+              "(medians); x per doubling = 2^p; last column: the same fit over the chains whose "
+              "report is the structure (no closed forms derived)",
+              ["quantity", "p", "x per doubling", f"at n = {min(ns) if ns else '-'}",
+               f"at n = {max(ns) if ns else '-'}",
+               f"p over {ad_span}" if ad_span else "p, structure only"])
+    med = statistics.median
+    rows = [
+        ("derive, own timing", [med(r.derive_own) for r in fitted], fmt_time),
+        ("derive, wall", [med(r.derive_wall) for r in fitted], fmt_time),
+        ("first compile, wall", [med(r.compile_wall) for r in fitted], fmt_time),
+        ("first compile, Library() in-process",
+         [med(r.compile_lib) for r in fitted], fmt_time),
+        ("peak memory of one compiler", [max(r.maxrss_kib) for r in fitted], _mib),
+        ("generated C bytes (.c + _simd.c)", [r.code["c"] + r.code["simd"] for r in fitted],
+         _kib),
+        ("operations", [r.code["ops"] for r in fitted], lambda v: f"{v:,}"),
+        ("equations.txt bytes", [r.code["eq"] for r in fitted], _kib),
+        ("inverse dynamics per sample", [r.run["ID"].median for r in fitted], fmt_time),
+        ("mass matrix per sample", [r.run["M"].median for r in fitted], fmt_time),
+        ("forward dynamics per sample", [r.run["FD"].median for r in fitted], fmt_time),
+    ]
+    if all(r.pin is not None for r in fitted) and fitted:
+        rows.append(("Pinocchio rnea (native) per sample", [r.pin.median for r in fitted],
+                     fmt_time))
+    exps, exps_ad = {}, {}
+    for what, vals, fmt in rows:
+        p = fit(ns, vals)
+        q = fit([ns[k] for k in ad], [vals[k] for k in ad]) if ad_span else None
+        exps[what], exps_ad[what] = p, q
+        f.add(what, "-" if p is None else f"{p:.2f}", "-" if p is None else f"{2 ** p:.2f}x",
+              fmt(vals[0]) if vals else "-", fmt(vals[-1]) if vals else "-",
+              "-" if q is None else f"{q:.2f}")
+    sec.tables.append(f)
+    mixed = sorted({r.n for r in fitted if r.code["eq_kind"] != "structure"})
+    if ad_span and mixed:
+        sec.notes.append(
+            f"n = {', '.join(map(str, mixed))} also derives the expanded closed forms (its "
+            "report prints them; derive/size.py), the larger chains only the structure: the "
+            f"{span} fit of derive time and report size spans that switch (hence a small or "
+            f"negative exponent); the last column fits {ad_span} alone")
+
+    big = max(chains, key=lambda r: r.n) if chains else robots[-1]
+    total = Stats(tuple(a + b for a, b in zip(big.derive_wall, big.compile_wall)))
+    goal = target_s(big.n)
+    derive_x = ratio(Stats(tuple(big.derive_wall)), Stats(tuple(big.imports)))
+    text = (f"Growth: the {big.n}-link pendulum derives and compiles in **{total.median:.3g} s** "
+            f"[{total.min:.3g}-{total.max:.3g}] (derive {fmt_ratio(derive_x)} an import-only "
+            f"subprocess; target < {goal:.0f} s: "
+            f"{'pass' if total.median < goal else '**fail**'}), peak compiler memory "
+            f"{_mib(max(big.maxrss_kib))}; inverse dynamics {fmt_time(big.run['ID'].median)} "
+            "per sample")
+    if big.pin_ratio is not None:
+        text += f", **{fmt_ratio(big.pin_ratio)}** faster than native Pinocchio rnea"
+    p = {k: exps.get(k) for k in ("derive, own timing", "first compile, wall",
+                                  "generated C bytes (.c + _simd.c)",
+                                  "inverse dynamics per sample")}
+    if all(v is not None for v in p.values()):
+        text += (f"; growth over {span}: ~n^{p['first compile, wall']:.2f} (compile), "
+                 f"n^{p['generated C bytes (.c + _simd.c)']:.2f} (code), "
+                 f"n^{p['inverse dynamics per sample']:.2f} (inverse dynamics")
+        pin = exps.get("Pinocchio rnea (native) per sample")
+        text += f"; Pinocchio n^{pin:.2f})" if pin is not None else ")"
+        d_ad = exps_ad.get("derive, own timing")
+        text += (f", derive n^{d_ad:.2f} over {ad_span} (n^{p['derive, own timing']:.2f} over "
+                 f"{span}, across the switch from closed forms)" if d_ad is not None
+                 else f", derive n^{p['derive, own timing']:.2f}")
+    sec.headlines["growth"] = text
