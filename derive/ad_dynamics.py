@@ -45,6 +45,8 @@ class Dynamics:
     gravity: ca.SX
     inverse_dynamics: ca.SX  # M qdd + h, by forward over reverse
     body_names: tuple[str, ...]
+    poses: ca.SX  # every body's cg x, y (m) and angle (rad), stacked body by body
+    pose_rates: ca.SX  # their time derivatives (one forward sweep)
 
     def rates(self, e: ca.SX) -> ca.SX:
         """d/dt of an expression in q: (de/dq) qd, one forward sweep."""
@@ -92,7 +94,7 @@ def derive(desc: Description) -> Dynamics:
                - dT_dq + gravity + friction)
     mass = ca.jacobian(momentum, s.qd)
     return Dynamics(desc, s, tree, kinetic, potential, momentum, mass, bias, gravity, inverse,
-                    names)
+                    names, poses, rates)
 
 
 def _rotors(desc: Description, tree: Tree, omega: dict[str, ca.SX]) -> ca.SX:
@@ -125,8 +127,7 @@ def quantities(desc: Description) -> Quantities:
     d = derive(desc)
     s, tree = d.sym, d.tree
     frames = [tree.frames[b] for b in d.body_names]
-    poses = ca.vertcat(*[ca.vertcat(tree.cg(b), tree.frames[b].angle) for b in d.body_names])
-    acc = d.second_rates(d.rates(poses))
+    acc = d.second_rates(d.pose_rates)
     joints = (*desc.tree_joints, *desc.loop_joints)
     points = [tree.at(j.child, j.child_point) for j in joints]
     points += [tree.at(j.parent, j.parent_point) for j in desc.loop_joints]

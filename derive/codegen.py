@@ -136,19 +136,17 @@ def render(desc: Description, equations: str = "auto") -> dict[str, bytes]:
     name = desc.name
     digest = input_hash(desc)
     ad = ad_dynamics.quantities(desc)
-    routes = [functions(ad)]
     closed = equations == "closed" or (equations == "auto" and sizes.measure(desc).closed_forms_fit)
     if closed:
         from . import closed_route, model, printing
 
         sym_model = model.build(desc)
-        routes.insert(0, functions(closed_route.quantities(sym_model, ad.sym)))
-    gens = choose(*routes)
-    if closed:
+        gens = choose(functions(closed_route.quantities(sym_model, ad.sym)), functions(ad))
         eq = printing.render(sym_model)
     else:
         from . import report_structure
 
+        gens = functions(ad)
         eq = report_structure.render(desc, {g.quantity: (g.operations, g.route) for g in gens})
     cg = ca.CodeGenerator(name, {"with_header": False, "casadi_real": "double",
                                  "casadi_int": "long long int"})
@@ -162,6 +160,8 @@ def render(desc: Description, equations: str = "auto") -> dict[str, bytes]:
     h_src = _header_comment(desc, f"{name}.h", digest) + _header(desc, gens)
     looped = [g for g in gens if g.quantity in LOOPED]
     simd_units = simd.units([g.operations for g in looped])
+    unit_operations = [sum(g.operations for g, u in zip(looped, simd_units) if u == k)
+                       for k in range(max(simd_units, default=-1) + 1)]
     simd_src = (_header_comment(desc, f"{name}_simd.c", digest) + simd.PRELUDE
                 + simd.in_unit(0, f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) '
                                   f'{{ return "{digest}"; }}\n')
@@ -178,7 +178,7 @@ def render(desc: Description, equations: str = "auto") -> dict[str, bytes]:
                          + "\n-->\n\n" + eq["markdown"]).encode(),
     }
     files.update({f"{g.quantity}.casadi": _saved(g.function) for g in gens})
-    files["manifest.json"] = _manifest(desc, gens, digest, files, simd_units,
+    files["manifest.json"] = _manifest(desc, gens, digest, files, unit_operations,
                                        "closed form" if closed else "structure")
     return files
 
@@ -266,7 +266,7 @@ def _actuators(desc: Description) -> list[dict]:
 
 
 def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict,
-              simd_units: list[int], equations: str) -> bytes:
+              unit_operations: list[int], equations: str) -> bytes:
     funcs = {}
     for g in gens:
         f = g.function
@@ -305,11 +305,9 @@ def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict
         # what equations.txt holds: the expanded closed forms, or past derive/size.py's
         # limit the structure they are computed from (no SymPy closed forms were derived)
         "equations": equations,
-        # <robot>_simd.c compiles as these units (-DPLANAR_SYM_UNIT=k), in parallel: the
-        # operations per unit, so the runtime can choose flags by size
-        "compile_units": {"simd": [sum(g.operations for g, u in zip(
-            [g for g in gens if g.quantity in LOOPED], simd_units) if u == k)
-            for k in range(max(simd_units, default=-1) + 1)]},
+        # <robot>_simd.c compiles as one object per unit (-DPLANAR_SYM_UNIT=k), in parallel;
+        # each unit's operations show how the loops were shared out
+        "compile_units": {"simd": unit_operations},
         "functions": funcs,
         "files": {k: hashlib.sha256(v).hexdigest() for k, v in sorted(files.items())},
     }

@@ -32,7 +32,7 @@ def test_seven_coordinates_three_loops_one_degree_of_freedom(leg):
 def test_power_balance_over_the_turn():
     t, h = np.linspace(0.05, 1.15, 45), 2.5e-4
     t = t[(np.abs(t - 0.1) > 1e-3) & (np.abs(t - 1.1) > 1e-3)]  # the ramps' ends: qdd jumps
-    robot, task, jt = study_motion(str(TURN), t)
+    robot, _, jt = study_motion(str(TURN), t)
     tau, _ = robot.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd, t=t)
     power = tau[:, 0] * jt.qd[:, robot.actuated[0]]
 
