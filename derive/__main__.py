@@ -89,7 +89,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--quiet", action="store_true", help="print nothing but errors")
     ap.add_argument("--if-stale", action="store_true",
                     help="only robots whose manifest's input hash differs from the inputs")
-    ap.add_argument("--equations", choices=codegen.EQUATIONS, default="auto",
+    ap.add_argument("--equations", choices=codegen.EQUATIONS, default="auto", type=str.lower,
                     help="the report: expanded closed forms where they fit (auto, see "
                          "derive/size.py), always (closed: slow past a few links), or the "
                          "structure they are computed from (structure)")

@@ -442,13 +442,15 @@ def _closure(desc: Description, nm: _Names, wk: _Walk) -> list[Part]:
 
 
 def _command(desc: Description) -> str:
-    """How the user names this robot to ``python -m derive``."""
+    """The command that derives this robot with its closed forms: ``make derive``'s for a
+    built-in robot, ``planar-sym derive`` (which works from an install) for a user's file."""
     if desc.name in builtin_robots():
-        return desc.name
+        return f"python -m derive {desc.name} --equations closed"
     try:
-        return desc.path.resolve().relative_to(ROOT).as_posix()
+        path = desc.path.resolve().relative_to(ROOT).as_posix()
     except ValueError:
-        return desc.path.name
+        path = desc.path.name
+    return f"planar-sym derive {path} --out DIR --equations closed"
 
 
 def _preamble(desc: Description, nm: _Names) -> list[Rich]:
@@ -456,7 +458,7 @@ def _preamble(desc: Description, nm: _Names) -> list[Rich]:
     act = ", ".join(nm.q[i].name for i in desc.actuated)
     units = "rad" if "m" not in desc.coordinate_units else "rad; d: m"
     sz = size.measure(desc)
-    cmd = Code(f"python -m derive {_command(desc)} --equations closed")
+    cmd = Code(_command(desc))
     how = ("The generated code computes the numbers from this structure: the kinematics as a "
            "recursion over the bodies (each body's angle and position from its parent's, "
            "computed once and shared by every body beyond it), the kinetic and potential "

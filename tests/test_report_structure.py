@@ -120,19 +120,20 @@ def test_the_report_says_why_and_how_to_get_the_closed_forms(chains, reports):
     assert reason  # a 10-link chain is past the closed forms' limits
     flat = _flat(r["text"])
     assert reason in flat
-    assert "python -m derive chain_10.toml --equations closed" in flat
+    assert "planar-sym derive chain_10.toml --out DIR --equations closed" in flat
     for phrase in ("algorithmic differentiation", "CasADi", "recursion", "forward mode",
                    "reverse mode", "forward over reverse", "O(n) operations", "O(n^2)"):
         assert phrase in flat, phrase
     assert r"chain\_10" in r["latex"] and r"chain\_10" in r["markdown"]
-    assert r"\texttt{python -m derive chain\_10.toml --equations closed}" in r["latex"]
-    assert "`python -m derive chain_10.toml --equations closed`" in r["markdown"]
+    assert r"\texttt{planar-sym derive chain\_10.toml --out DIR --equations closed}" in r["latex"]
+    assert "`planar-sym derive chain_10.toml --out DIR --equations closed`" in r["markdown"]
     # a robot whose closed forms fit says so instead of giving a reason
     rpr_text = _flat(reports["serial_rpr"][1]["text"])
     assert "they would fit for this robot" in rpr_text
     assert "python -m derive serial_rpr --equations closed" in rpr_text
     six_bar = _flat(reports["six_bar_watt"][1]["text"])
-    assert "python -m derive examples/six_bar_watt.toml --equations closed" in six_bar
+    # a user's file: the command that works from an install
+    assert "planar-sym derive examples/six_bar_watt.toml --out DIR --equations closed" in six_bar
 
 
 @pytest.mark.parametrize("robot", ["chain_10", "six_bar_watt", "serial_rpr", "serial_3dof"])

@@ -25,7 +25,7 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path, required=True,
                    help="output folder; each robot goes to OUT/<name>/")
     p.add_argument("--no-build", action="store_true", help="write the C, do not compile it")
-    p.add_argument("--equations", choices=("auto", "closed", "structure"), default="auto",
+    p.add_argument("--equations", choices=("auto", "closed", "structure"), default="auto", type=str.lower,
                    help="equations.txt/.tex/.md: the expanded closed forms up to 4 moving joints "
                         "in a chain and 9 coordinates (auto), always (closed: minutes past "
                         "about 6 links), or the structure they are computed from")
