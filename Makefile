@@ -4,7 +4,7 @@ VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: help venv derive derive-check build browser test test-fast demo bench docs lint clean
+.PHONY: help venv derive derive-check build browser test test-fast demo bench mutate docs lint clean
 
 help:  ## this list
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/'
@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml constraints.txt setup.py planar_sym/model/_fastcall.c \
 		$(wildcard generated/*/manifest.json)
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench,cluster,docs,notebook]'
+	$(PY) -m pip install -q -c constraints.txt -e '.[derive,test,bench,cluster,docs,notebook,mutate]'
 	touch $@
 
 derive: $(STAMP)  ## re-derive every built-in robot into generated/ (deterministic, atomic)
@@ -44,6 +44,11 @@ demo: derive-check build  ## every scenario, animation and robot drawing into re
 bench: $(STAMP)  ## benchmarks vs Pinocchio, MuJoCo, lambdify and a C floor -> BENCHMARKS.md (~3 min)
 	$(PY) -m benchmarks
 
+# TARGET: a module or folder under planar_sym/ listed in mutation/targets.toml (several: spaces)
+mutate: $(STAMP)  ## mutation testing: make mutate TARGET=planar_sym/dynamics -> MUTATION.md (not in test)
+	@test -n "$(TARGET)" || { $(PY) -m mutation --list; echo "usage: make mutate TARGET=..."; exit 2; }
+	$(PY) -m mutation $(TARGET)
+
 docs: $(STAMP)  ## the API reference, rendered from the docstrings, into site/ (mkdocs --strict)
 	$(PY) -m mkdocs build --strict --site-dir site
 
@@ -51,4 +56,4 @@ lint: $(STAMP)  ## ruff on the sources (generated/ excluded)
 	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests benchmarks examples
 
 clean:  ## remove build outputs (not the committed generated/)
-	rm -rf build dist *.egg-info results .pytest_cache site
+	rm -rf build dist *.egg-info results .pytest_cache site .mutation

@@ -8,16 +8,20 @@ the old version is itself consistent). Then derive is interrupted, and every rob
 * be consistent: exactly the manifest's files, each with the manifest's sha256;
 * be byte for byte the old version, or a new one (consistent, without the marker);
 * load (``Library(robot, folder)`` checks the manifest again), with hidden ``.<robot>.*``
-  leftovers of a killed run ignored by the loader (they are not cleaned up by a later run:
-  reported, see ``test_leftovers_of_a_killed_run_are_ignored``).
+  leftovers of a killed run ignored by the loader (and removed by the next derive of that
+  robot: ``test_leftovers_of_a_killed_run_are_ignored_then_cleaned``).
 
-Moments, on the real command (all five robots, about 3 s uninterrupted): SIGKILL after 0.5 s
-(importing) and 2 s (deriving in memory) and right after the first "wrote" line (between two
-folder swaps, possibly in the middle of writing the next); SIGINT after 1 s and after the first
-"wrote" line. Deterministic moments, by a driver that signals itself from inside derive:
-SIGKILL/SIGINT in the middle of writing the second robot's temporary folder, SIGKILL right after
-a folder was swapped in (before the old one is deleted), and -- a known bug, strict xfail --
-between the two renames of the swap, where the robot's folder is missing altogether.
+Moments on the real command (every built-in robot): SIGKILL and SIGINT right after the first
+"wrote" line on stderr (between two folder swaps, possibly in the middle of writing the next).
+Moments before any folder is written, by a driver that runs the same command (``runpy`` on
+``derive``, every built-in robot) and signals itself from inside it at a named stage, not
+after a time (a loaded machine would move those): SIGKILL while importing derive (when
+``derive.__main__`` imports ``derive.codegen``, before anything is derived), and SIGKILL and
+SIGINT while deriving in memory (when ``codegen.render`` is called for the second robot: the
+first one is derived, nothing is written). Further deterministic moments, by the same driver on
+two robots: SIGKILL/SIGINT in the middle of writing the second robot's temporary folder. (The
+driver's modes "swapped", right after a folder was swapped in, and "between", between the two
+renames of the fallback swap, are used by no test here.)
 """
 
 from __future__ import annotations
@@ -31,7 +35,6 @@ import signal
 import subprocess
 import sys
 import textwrap
-import time
 from pathlib import Path
 
 import pytest
@@ -114,37 +117,30 @@ def _hidden(gen: Path) -> list[str]:
                   if p.name.startswith(".") and not p.name.endswith(".lock"))
 
 
-# -- the real command, interrupted at moments in time ----------------------------------------------
+# -- the real command, interrupted after its first folder ------------------------------------------
 
-@pytest.mark.parametrize("sig, moment", [
-    (signal.SIGKILL, 0.5), (signal.SIGKILL, 2.0), (signal.SIGKILL, "first wrote"),
-    (signal.SIGINT, 1.0), (signal.SIGINT, "first wrote")],
-    ids=["kill-0.5s", "kill-2s", "kill-after-first-folder", "int-1s", "int-after-first-folder"])
-def test_interrupted_at_a_moment(tmp_path, sig, moment):
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGINT],
+                         ids=["kill-after-first-folder", "int-after-first-folder"])
+def test_interrupted_after_the_first_folder(tmp_path, sig):
     gen = old_copy(tmp_path)
     proc = subprocess.Popen([sys.executable, "-m", "derive", "--out", str(gen)], cwd=ROOT,
                             env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True)
-    if moment == "first wrote":
-        for line in proc.stderr:  # "wrote <folder>/ (...)" after each folder swap
-            if line.startswith("wrote "):
-                proc.send_signal(sig)
-                break
+    for line in proc.stderr:  # "wrote <folder>/ (...)" after each folder swap
+        if line.startswith("wrote "):
+            proc.send_signal(sig)
+            break
     else:
-        time.sleep(moment)
-        proc.send_signal(sig)
+        pytest.fail(f"derive wrote no folder (exit code {proc.wait()})")
     proc.communicate(timeout=60)
     states = check_folders(gen, tmp_path / "old")
-    if moment == "first wrote":
-        assert "new" in states.values(), states
-    elif moment < 1.5:  # still importing or deriving in memory: nothing swapped yet
-        assert proc.returncode != 0 and set(states.values()) == {"old"}, states
+    assert "new" in states.values(), states
 
 
 # -- deterministic moments: derive signals itself from inside ----------------------------------------
 
 DRIVER = textwrap.dedent("""
-    import os, pathlib, runpy, signal, sys
+    import importlib.abc, os, pathlib, runpy, signal, sys
 
     mode, sig, out = sys.argv[1], getattr(signal, sys.argv[2]), sys.argv[3]
     robots = sys.argv[4:]
@@ -168,6 +164,28 @@ DRIVER = textwrap.dedent("""
             os.kill(os.getpid(), sig)
 
     pathlib.Path.write_bytes, os.replace = write_bytes, replace
+    if mode == "importing":  # derive.__main__ importing its code generator (SymPy, CasADi)
+        class Importing(importlib.abc.MetaPathFinder):
+            def find_spec(self, name, path=None, target=None):
+                if name == "derive.codegen":
+                    print("driver: signal while importing", file=sys.stderr, flush=True)
+                    os.kill(os.getpid(), sig)
+                return None
+
+        sys.meta_path.insert(0, Importing())
+    if mode == "deriving":  # the second robot's derivation starts: the first is in memory
+        import derive.codegen as codegen
+
+        real_render, renders = codegen.render, [0]
+
+        def render(*args, **kwargs):
+            renders[0] += 1
+            if renders[0] == 2:
+                print("driver: signal while deriving", file=sys.stderr, flush=True)
+                os.kill(os.getpid(), sig)
+            return real_render(*args, **kwargs)
+
+        codegen.render = render
     sys.argv = ["derive", *robots, "--out", out, "--quiet"]
     runpy.run_module("derive", run_name="__main__")
     sys.exit(3)  # not interrupted: the driver missed its moment
@@ -175,16 +193,34 @@ DRIVER = textwrap.dedent("""
 PAIR = ["serial_2dof", "five_bar_type1"]  # written in this order
 
 
-def _drive(tmp_path: Path, mode: str, sig: str) -> tuple[Path, subprocess.CompletedProcess]:
+def _drive(tmp_path: Path, mode: str, sig: str,
+           robots: list[str] = PAIR) -> tuple[Path, subprocess.CompletedProcess]:
     gen = old_copy(tmp_path)
     script = tmp_path / "driver.py"
     script.write_text(DRIVER)
-    res = subprocess.run([sys.executable, str(script), mode, sig, str(gen), *PAIR], cwd=ROOT,
+    res = subprocess.run([sys.executable, str(script), mode, sig, str(gen), *robots], cwd=ROOT,
                          env=_env(), capture_output=True, text=True, timeout=60, check=False)
     expected = -signal.SIGKILL if sig == "SIGKILL" else -signal.SIGINT
     assert res.returncode in (expected, 1, 130), (res.returncode, res.stderr[-2000:])
     assert res.returncode != 3, "the interrupt never happened"
     return gen, res
+
+
+@pytest.mark.parametrize("sig, stage", [("SIGKILL", "importing"), ("SIGKILL", "deriving"),
+                                        ("SIGINT", "deriving")],
+                         ids=["kill-importing", "kill-deriving", "int-deriving"])
+def test_interrupted_before_any_folder_is_written(tmp_path, sig, stage):
+    """Every built-in robot (those ``python -m derive`` derives when given no names):
+    interrupted while importing or while deriving in memory, nothing is swapped: every folder
+    is the old one, nonzero exit, and nothing is left beside them."""
+    from planar_sym.model.description import builtin_robots
+
+    assert sorted(builtin_robots()) == ROBOTS
+    gen, res = _drive(tmp_path, stage, sig, robots=ROBOTS)
+    assert res.returncode != 0 and f"driver: signal while {stage}\n" in res.stderr, res.stderr
+    states = check_folders(gen, tmp_path / "old")
+    assert set(states.values()) == {"old"}, states
+    assert _hidden(gen) == []
 
 
 @pytest.mark.parametrize("sig", ["SIGKILL", "SIGINT"])

@@ -1,0 +1,1 @@
+"""Mutation testing of the runtime (``make mutate``): see ``python -m mutation --help``."""

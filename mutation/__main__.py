@@ -1,0 +1,158 @@
+"""``python -m mutation TARGET [TARGET ...] [--tests FILE ...] [--jobs N]`` (``make mutate``).
+
+Mutation testing of one runtime module or folder with mutmut: plant small bugs (an operator, a
+constant, a dropped call) one at a time and run the tests that cover the mutated function; a
+mutant the tests do not kill is a bug they would not see. The result is written into
+``MUTATION.md`` (this target's section replaced, the others kept), with each survivor's diff and,
+where a developer has judged it, why it is equivalent (``mutation/equivalent.toml``).
+
+mutmut mutates a copy of the package in ``mutants/`` of a work folder, so the checkout is never
+touched; the work folder is ``.mutation/<target>/`` (git-ignored, made anew each run). The test
+files that cover each target are listed in ``mutation/targets.toml``. Only tests that call the
+package in their own process can kill a mutant: a command run as a subprocess runs the checkout.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+from .classify import Mutant, load_equivalents, parse_show
+from .report import Outcome, write_section
+
+ROOT = Path(__file__).resolve().parent.parent
+TARGETS = Path(__file__).resolve().parent / "targets.toml"
+WORK = ROOT / ".mutation"
+#: what the tests read beside the package (the robots' generated code, examples, docs)
+ALSO_COPY = ["derive", "generated", "examples", "benchmarks", "docs", "README.md", "Makefile",
+             "setup.py", "constraints.txt", "mkdocs.yml"]
+
+
+def _targets() -> dict[str, list[str]]:
+    return {k: v["tests"] for k, v in tomllib.loads(TARGETS.read_text())["target"].items()}
+
+
+def _tests_for(target: str, given: list[str] | None) -> list[str]:
+    if given:
+        return given
+    table = _targets()
+    if target not in table:
+        raise SystemExit(f"mutation: no test files listed for {target!r} in {TARGETS.name}; add a "
+                         f"[target.\"{target}\"] table with tests = [...] or pass --tests "
+                         f"(listed: {', '.join(sorted(table))})")
+    return table[target]
+
+
+def _glob(target: str) -> str:
+    """mutmut's only_mutate pattern for a file or a folder."""
+    return target if target.endswith(".py") else target.rstrip("/") + "/*"
+
+
+def _prepare(work: Path, target: str, tests: list[str]) -> None:
+    """A fresh work folder: the package, what the tests read, and mutmut's configuration."""
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    ignore = shutil.ignore_patterns("__pycache__", "*.egg-info")
+    for name in ["planar_sym", "tests", *ALSO_COPY]:
+        src = ROOT / name
+        (shutil.copytree(src, work / name, ignore=ignore) if src.is_dir()
+         else shutil.copy2(src, work / name))
+    config = (ROOT / "pyproject.toml").read_text() + "\n".join([
+        "", "[tool.mutmut]", 'source_paths = ["planar_sym"]',
+        f"only_mutate = [{_glob(target)!r}]",
+        f"also_copy = {ALSO_COPY!r}",
+        f"pytest_add_cli_args_test_selection = {tests!r}",
+        # -x: a mutant is killed by its first failing test; no cache writes into the copy
+        'pytest_add_cli_args = ["-x", "-q", "-p", "no:cacheprovider", "-m", "not slow"]',
+        "timeout_multiplier = 5.0", ""]).replace("'", '"')
+    (work / "pyproject.toml").write_text(config)
+
+
+def _mutmut(work: Path, *args: str, capture: bool = True) -> str:
+    exe = Path(sys.executable).with_name("mutmut")
+    # mutmut puts mutants/ first on the tests' sys.path itself (a PYTHONPATH of ours breaks its
+    # set-up); so a test's subprocess (the CLI tests) runs the checkout's code and kills nothing
+    env = dict(os.environ)
+    env.setdefault("MPLBACKEND", "Agg")
+    res = subprocess.run([str(exe), *args], cwd=work, env=env, text=True, check=False,
+                         stdout=subprocess.PIPE if capture else subprocess.DEVNULL,
+                         stderr=subprocess.STDOUT if capture else subprocess.DEVNULL)
+    if res.returncode != 0:
+        tail = (res.stdout or "")[-3000:]
+        raise SystemExit(f"mutation: mutmut {' '.join(args)} failed ({res.returncode}):\n{tail}")
+    return res.stdout or ""
+
+
+def _statuses(work: Path) -> dict[str, str]:
+    out = _mutmut(work, "results", "--all", "true")
+    found = {}
+    for line in out.splitlines():
+        name, sep, status = line.strip().rpartition(": ")
+        if sep and name.startswith("planar_sym."):
+            found[name] = status
+    return found
+
+
+def run_target(target: str, tests: list[str], jobs: int) -> Outcome:
+    slug = target.replace("/", "_").removesuffix(".py").strip("_")
+    work = WORK / slug
+    _prepare(work, target, tests)
+    t0 = time.perf_counter()
+    print(f"mutation: {target}: mutmut run over {len(tests)} test file(s), {jobs} at a time",
+          file=sys.stderr)
+    _mutmut(work, "run", "--max-children", str(jobs), capture=False)
+    seconds = time.perf_counter() - t0
+    statuses = _statuses(work)
+    equivalents = load_equivalents()
+    survivors = []
+    for name, status in sorted(statuses.items()):
+        if status in ("survived", "no tests"):
+            mutant: Mutant = parse_show(name, status, _mutmut(work, "show", name))
+            mutant.reason = equivalents.get(mutant.key())
+            survivors.append(mutant)
+    return Outcome(target=target, tests=tests, statuses=statuses, survivors=survivors,
+                   seconds=seconds, commit=_commit())
+
+
+def _commit() -> str:
+    res = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, text=True,
+                         capture_output=True, check=False)
+    dirty = subprocess.run(["git", "status", "--porcelain", "planar_sym", "tests"], cwd=ROOT,
+                           text=True, capture_output=True, check=False).stdout.strip()
+    return (res.stdout.strip() or "unknown") + (" (with uncommitted changes)" if dirty else "")
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m mutation", description=__doc__.splitlines()[0])
+    ap.add_argument("targets", nargs="*", metavar="TARGET",
+                    help="a module or folder under planar_sym/ (see mutation/targets.toml)")
+    ap.add_argument("--tests", nargs="+", metavar="FILE",
+                    help="test files to run instead of the ones listed for the target")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                    help="mutants tested at once (default: the number of cores)")
+    ap.add_argument("--out", type=Path, default=ROOT / "MUTATION.md",
+                    help="the report whose section for each target is replaced")
+    ap.add_argument("--list", action="store_true", help="list the targets and their test files")
+    args = ap.parse_args(argv)
+    if args.list or not args.targets:
+        for target, tests in sorted(_targets().items()):
+            print(f"{target}: {' '.join(tests)}")
+        return 0
+    for target in args.targets:
+        if not (ROOT / target).exists():
+            ap.error(f"{target}: no such module or folder")
+        outcome = run_target(target, _tests_for(target, args.tests), args.jobs)
+        write_section(args.out, outcome)
+        print(outcome.summary_line())
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
