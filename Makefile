@@ -53,7 +53,7 @@ docs: $(STAMP)  ## the API reference, rendered from the docstrings, into site/ (
 	$(PY) -m mkdocs build --strict --site-dir site
 
 lint: $(STAMP)  ## ruff on the sources (generated/ excluded)
-	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests benchmarks examples
+	$(PY) -m pip install -q ruff && $(PY) -m ruff check planar_sym derive tests benchmarks examples mutation
 
 clean:  ## remove build outputs (not the committed generated/)
 	rm -rf build dist *.egg-info results .pytest_cache site .mutation

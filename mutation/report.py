@@ -69,7 +69,7 @@ class Outcome:
         return "\n".join(lines)
 
 
-_SECTION = re.compile(r"<!-- mutation: (?P<t>\S+) -->.*?<!-- end mutation: (?P=t) -->\n?", re.S)
+_SECTION = re.compile(r"<!-- mutation: (?P<t>\S+) -->.*?<!-- end mutation: (?P=t) -->\n?", re.DOTALL)
 _SUMMARY = re.compile(r"<!-- summary (?P<row>\|.*\|) -->")
 
 

@@ -45,10 +45,10 @@ S0, L2, L3 = 0.3, 0.5, 0.2
 REL = 1e-6
 #: atlases: region (m), points per axis, orientations (rad), L_c (m)
 ATLASES = {
-    "serial_rpr": dict(x_range=(-0.6, 0.9), y_range=(-0.6, 0.9), points=9,
-                       orientations=[1.2, 1.5708], length_scale=0.5),
-    "parallel_3rpr": dict(x_range=(-0.1, 0.1), y_range=(-0.1, 0.1), points=7,
-                          orientations=[-0.2, 0.0, 0.25], length_scale=0.4),
+    "serial_rpr": {"x_range": (-0.6, 0.9), "y_range": (-0.6, 0.9), "points": 9,
+                       "orientations": [1.2, 1.5708], "length_scale": 0.5},
+    "parallel_3rpr": {"x_range": (-0.1, 0.1), "y_range": (-0.1, 0.1), "points": 7,
+                          "orientations": [-0.2, 0.0, 0.25], "length_scale": 0.4},
 }
 
 
