@@ -31,10 +31,13 @@ class Mutant:
     @property
     def text_only(self) -> bool:
         """True when only string literals differ: a message's wording, not a number."""
-        return bool(self.before) and _code_tokens(self.before) == _code_tokens(self.after)
+        before, after = _code_tokens(self.before), _code_tokens(self.after)
+        return bool(self.before) and before is not None and before == after
 
 
 def _code_tokens(lines: list[str]) -> list[str] | None:
+    """The tokens that are not strings; None when the lines are not whole statements (a part
+    of a call spanning lines cannot be judged text only)."""
     try:
         toks = list(tokenize.generate_tokens(io.StringIO("\n".join(lines) + "\n").readline))
     except (tokenize.TokenError, IndentationError, SyntaxError):
