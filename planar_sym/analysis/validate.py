@@ -3,14 +3,20 @@
 (a) every output of every compiled function against the SymPy model it was generated from
     (needs SymPy and the description file);
 (b) a second route to the dynamics that never uses the symbolic M and h: Lagrange's equations
-    by finite differences of the compiled *energy*, ``tau = d/dt dL/dqd - dL/dq``; for closed
-    chains also the multiplier solve against the null-space projection ``G^T (M qdd + h)``;
-(c) energy conservation of free motion (``simulate``, zero torque, from the drawn pose);
-(d) power balance along a trajectory: ``sum tau_i qd_i = dE/dt``;
+    by finite differences of the compiled *energy* (rotors included), plus the drive train's
+    friction from the parameters, ``tau = d/dt dL/dqd - dL/dq + D(qd)``; for closed chains also
+    the multiplier solve against the null-space projection ``G^T (M qdd + h)``;
+(c) energy of free motion (zero torque, from the drawn pose): conserved, or with friction
+    ``E(t) + F(t) = E(0)``, F the friction's work integrated with the state;
+(d) power balance along a trajectory: ``sum tau_i qd_i = dE/dt + D(qd) . qd`` (a tree with a
+    passive joint: its tree torques at every joint, a passive one's as an applied torque);
 (e) closed chains: the loop residual, and the passive rates against differences of q(t).
 
 Relative errors are normwise: at random states per sample, ``max_k ||a_k - b_k||_inf /
 ||b_k||_inf``; along a motion relative to the peak, ``max_k ||a_k - b_k|| / max_k ||b_k||``.
+A quantity that can be zero at every state (the velocity Jacobian of a 1-DOF robot, the
+gravity of a robot in a horizontal plane) is measured against its physical scale instead: the
+sampled accelerations per unit rate or angle, so rounding noise is never divided by itself.
 """
 
 from __future__ import annotations
@@ -71,24 +77,36 @@ def row(check: str, worst: float, tol: float, detail: str = "") -> Row:
     return Row(check, worst, tol, "pass" if ok else "FAIL", detail)
 
 
-def rel_err(a, b, peak: bool = False) -> float:
+def rel_err(a, b, peak: bool = False, scale: float = 0.0) -> float:
     """Worst per-sample ``||a_k - b_k|| / ||b_k||`` (random states), or relative to the largest
-    ``||b_k||`` (``peak``: along a motion, where every rate passes through zero together)."""
+    ``||b_k||`` (``peak``: along a motion, where every rate passes through zero together).
+
+    ``scale`` (same unit as ``b``): the quantity's physical size, the floor of every sample's
+    denominator, for a quantity that may vanish everywhere; 0 keeps the reference's own size.
+    """
     a = np.asarray(a, dtype=float).reshape(len(a), -1)
     b = np.asarray(b, dtype=float).reshape(len(b), -1)
-    diff, scale = np.max(np.abs(a - b), axis=1), np.max(np.abs(b), axis=1)
-    if scale.max() == 0.0:  # an all-zero reference (no gravity, say): absolute
+    diff, size = np.max(np.abs(a - b), axis=1), np.max(np.abs(b), axis=1)
+    if size.max() == 0.0 and scale == 0.0:  # an all-zero reference, no scale: absolute
         return float(diff.max())
     floor = 1.0 if peak else 1e-12  # a (near) zero sample is measured against the largest
-    return float(np.max(diff / np.maximum(scale, floor * scale.max())))
+    return float(np.max(diff / np.maximum(size, max(floor * size.max(), scale))))
 
 
 def random_states(robot: Robot, samples: int, seed: int):
     """Random states drawn with ``seed``, each of shape (samples, n): q uniform in [-pi, pi]
-    (rad); qd (rad/s), qdd (rad/s^2) and tau (N*m) uniform in [-3, 3]."""
+    (rad); qd (rad/s), qdd (rad/s^2) and tau (N*m) uniform in [-3, 3].
+
+    A joint with Coulomb friction gets |qd| >= 20 v_s: its tanh(qd / v_s) turns over within a
+    few v_s of rest (0.01 rad/s by default), too sharply for differences with a 1e-3 step;
+    beyond 20 v_s its slope is below 1e-16 of c / v_s.
+    """
     rng = np.random.default_rng(seed)
     q = rng.uniform(-np.pi, np.pi, (samples, robot.n))
     qd, qdd, tau = (rng.uniform(-3, 3, (samples, robot.n)) for _ in range(3))
+    drives = robot.drive_train
+    away = np.where(drives.coulomb != 0.0, 20.0 * drives.smoothing, 0.0)
+    qd = np.where(np.abs(qd) < away, np.copysign(away, qd) + qd, qd)
     return q, qd, qdd, tau
 
 
@@ -239,7 +257,8 @@ def mass_from_energy(robot: Robot, q: np.ndarray) -> np.ndarray:
 
 
 def lagrange_from_energy(robot: Robot, q, qd, qdd) -> dict[str, np.ndarray]:
-    """M, g = dV/dq, h and tau = d/dt dL/dqd - dL/dq, from the compiled energy function.
+    """M, g = dV/dq, h and tau = d/dt dL/dqd - dL/dq + D(qd), from the compiled energy
+    function (rotors included) and the drive train's friction D (``Robot.drive_train``).
 
     ``q``, ``qd``, ``qdd`` (N, n) in rad, rad/s, rad/s^2; returns ``"M"`` (N, n, n) in
     kg*m^2 and ``"g"``, ``"h"``, ``"tau"`` (N, n) in N*m.
@@ -250,7 +269,7 @@ def lagrange_from_energy(robot: Robot, q, qd, qdd) -> dict[str, np.ndarray]:
     dV = np.column_stack([_diff(lambda x: robot.energy(x, qd)[1], q, e) for e in eye])
     # d/dt (M qd) at qdd = 0 is the derivative of M(q + s qd) qd along s
     mdot_qd = _diff(lambda x: np.einsum("kij,kj->ki", mass_from_energy(robot, x), qd), q, qd)
-    h = mdot_qd - dT + dV
+    h = mdot_qd - dT + dV + robot.drive_train.friction(qd)
     return {"M": M, "g": dV, "h": h, "tau": np.einsum("kij,kj->ki", M, qdd) + h}
 
 
@@ -267,6 +286,11 @@ def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
     q, qd, qdd, _ = random_states(robot, samples, seed)
     ref = lagrange_from_energy(robot, q, qd, qdd)
     fns = robot.library.functions
+    # physical scales of the forward dynamics' Jacobians: the sampled accelerations per unit
+    # rate (1/s) and per radian (1/s^2); a 1-DOF arm's dqdd/dqd is zero at every state
+    accel = float(np.max(np.abs(qdd)))
+    scales = {"forward_dynamics_jacobian.dqdd_dq": accel / np.pi,
+              "forward_dynamics_jacobian.dqdd_dqd": accel / float(np.max(np.abs(qd)))}
     got = {}
     for prefix, r in compiled_paths(robot):
         got.update({f"{prefix}mass_matrix.M": (r.mass_matrix(q), ref["M"]),
@@ -289,7 +313,7 @@ def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
         by_qd = [_diff(lambda x: robot.forward_dynamics(q, x, tau), qd, e) for e in eye]
         got["forward_dynamics_jacobian.dqdd_dq"] = (jac["dqdd_dq"], np.stack(by_q, axis=2))
         got["forward_dynamics_jacobian.dqdd_dqd"] = (jac["dqdd_dqd"], np.stack(by_qd, axis=2))
-    errs = {k: rel_err(a, b) for k, (a, b) in got.items()}
+    errs = {k: rel_err(a, b, scale=scales.get(k, 0.0)) for k, (a, b) in got.items()}
     where = _worst(errs)
     return row(f"(b) Lagrange from the energy (finite differences), {samples} states",
                errs[where], TOL_ROUTE, f"worst: {where}; vs compiled M, g, h, tau"
@@ -319,18 +343,25 @@ def motion(robot: Robot, samples: int, amplitude: float) -> dict:
 
 
 def check_power(robot: Robot, traj: dict) -> Row:
-    """Power in, ``sum tau_i qd_i`` (actuated joints), against dE/dt from the energy."""
+    """Power in, ``sum tau_i qd_i``, against dE/dt from the energy plus the power the drive
+    train's friction takes: the actuated joints' torques of a closed chain, or a tree's torques
+    at every joint (at a passive joint, the torque that would make it follow: a check of M and
+    h, not a motor's)."""
     energy = {k: sum(robot.energy(j.q, j.qd)) for k, j in traj.items()}
-    de_dt = sum(c * energy[k] for k, c in D1.items()) / STEP
     j = traj[0]
+    needed = sum(c * energy[k] for k, c in D1.items()) / STEP
+    needed = needed + robot.drive_train.friction_power(j.qd)
     if robot.is_closed_chain:
         tau, _ = robot.closed_chain_inverse_dynamics(j.q, j.qd, j.qdd)
         power = np.sum(tau * j.qd[:, list(robot.actuated)], axis=1)
     else:
-        power = np.sum(robot.inverse_dynamics(j.q, j.qd, j.qdd) * j.qd, axis=1)
-    return row(f"(d) power balance sum tau qd = dE/dt, {len(power)} samples",
-               rel_err(power[:, None], de_dt[:, None], peak=True), TOL_POWER,
-               f"relative to peak power {np.max(np.abs(de_dt)):.3g} W")
+        power = np.sum(robot.tree_inverse_dynamics(j.q, j.qd, j.qdd) * j.qd, axis=1)
+    friction = " + friction" if robot.drive_train.has_friction else ""
+    passive = len(robot.actuated) < robot.n and not robot.is_closed_chain
+    return row(f"(d) power balance sum tau qd = dE/dt{friction}, {len(power)} samples",
+               rel_err(power[:, None], needed[:, None], peak=True), TOL_POWER,
+               f"relative to peak power {np.max(np.abs(needed)):.3g} W"
+               + ("; tree torques at every joint, passive ones included" if passive else ""))
 
 
 def check_null_space(robot: Robot, traj: dict) -> Row:
@@ -370,22 +401,41 @@ def check_constraints(robot: Robot, traj: dict, sim=None) -> list[Row]:
 # -- (c) free motion ----------------------------------------------------------------------------
 def free_motion(robot: Robot, seconds: float = 1.0):
     """Zero torque from the drawn pose at rest; pushed (actuated joints 1 rad/s) if that pose
-    does not move by itself (an equilibrium, or no gravity)."""
-    from ..dynamics.forward import simulate
-
+    does not move by itself (an equilibrium, or no gravity). With friction, the run integrates
+    the friction's work with the state (``simulate_controlled`` under controller "none"), so
+    the energy balance holds to the integrator's tolerance, not a quadrature's."""
     t = np.linspace(0.0, seconds, 201)
-    sim = simulate(robot, robot.q_drawn, np.zeros(robot.n), (0.0, seconds), t_eval=t)
+    if robot.drive_train.has_friction:
+        from ..control.laws import controller
+        from ..control.loop import simulate_controlled
+
+        def run(qd0):
+            return simulate_controlled(robot, controller("none"), (0.0, seconds),
+                                       q0=robot.q_drawn, qd0=qd0, t_eval=t, rtol=1e-11,
+                                       atol=1e-12)
+    else:
+        from ..dynamics.forward import simulate
+
+        def run(qd0):
+            return simulate(robot, robot.q_drawn, qd0, (0.0, seconds), t_eval=t)
+    sim = run(np.zeros(robot.n))
     if np.max(sim.kinetic_j) <= 1e-12 * max(np.max(np.abs(sim.energy_j)), 1e-300):
         qd0 = np.zeros(robot.n)
         qd0[list(robot.actuated)] = 1.0
-        sim = simulate(robot, robot.q_drawn, qd0, (0.0, seconds), t_eval=t)
+        sim = run(qd0)
     return sim
 
 
 def check_energy(sim) -> Row:
-    """(c) The free motion's relative energy drift (``Simulation.energy_drift``)."""
+    """(c) The free motion's relative energy drift (``Simulation.energy_drift``), or with
+    friction its energy balance E(t) - E(0) + F(t) = 0 (``ControlledRun.balance_residual``)."""
+    peak = f"peak kinetic energy {np.max(sim.kinetic_j):.3g} J"
+    if hasattr(sim, "friction_j"):
+        return row(f"(c) energy balance with friction, free motion {sim.t_s[-1]:g} s",
+                   sim.balance_residual, TOL_ENERGY,
+                   f"relative; {peak}, friction work {sim.friction_j[-1]:.3g} J")
     return row(f"(c) energy drift, free motion {sim.t_s[-1]:g} s", sim.energy_drift, TOL_ENERGY,
-               f"relative; peak kinetic energy {np.max(sim.kinetic_j):.3g} J")
+               f"relative; {peak}")
 
 
 # -- everything ---------------------------------------------------------------------------------

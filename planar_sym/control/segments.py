@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.description import COULOMB_SMOOTHING
 from ..model.robot import Robot
 
 #: closed chains: the run is re-projected onto the loops this often (s), and a segment whose
@@ -16,14 +15,8 @@ DRIFT_LIMIT_M = 1e-6
 
 def friction(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per coordinate: viscous b, Coulomb c and smoothing v_s of D = b qd + c tanh(qd / v_s)."""
-    params = robot.parameters
-    fv, fc, vs = np.zeros(robot.n), np.zeros(robot.n), np.ones(robot.n)
-    for act in robot.actuators:
-        i, j = act["coordinate"], act["joint"]
-        fv[i] = params.get(f"fv_{j}", 0.0)
-        fc[i] = params.get(f"fc_{j}", 0.0)
-        vs[i] = params.get(f"vs_{j}", COULOMB_SMOOTHING)
-    return fv, fc, vs
+    drives = robot.drive_train
+    return drives.viscous, drives.coulomb, drives.smoothing
 
 
 def run_segments(plant, setup, y0, t, segment, count):

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, LibraryError, WorkspaceError
+from .drive import DriveTrain
 from .library import Library, builtin_generated_dirs, fastcall
 
 #: a Jacobian whose condition number exceeds this is called singular. Near a singularity the
@@ -262,6 +263,12 @@ class Robot:
     def has_friction(self) -> bool:
         """Whether an actuator's friction dissipates energy (a free motion then loses it)."""
         return any(p.name.startswith(("fv_", "fc_")) for p in self.parameter_list)
+
+    @property
+    def drive_train(self) -> DriveTrain:
+        """The actuated joints' gears, rotors, friction and limits with the parameters in use
+        (``model.drive``): what every consumer of the drive train reads."""
+        return DriveTrain.of(self.actuators, self.parameters, self.n)
 
     @property
     def is_closed_chain(self) -> bool:

@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.drive import DriveTrain
+
 RPM = 60.0 / (2.0 * math.pi)  # rad/s -> rpm
 #: the trapezoidal rule: numpy 2 renamed trapz (numpy >= 1.26 is supported)
 _trapezoid = getattr(np, "trapezoid", None) or np.trapz
@@ -88,10 +90,11 @@ def size(robot, t_s: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> tuple[Actua
     """
     t = np.asarray(t_s, dtype=float)
     out = []
-    params = robot.parameters
+    # the drive train as the dynamics sees it (a gear_<joint> parameter wins over the file)
+    drives = DriveTrain.of(robot.actuators, robot.parameters, np.shape(qd)[-1]).drives
     for k, act in enumerate(robot.actuators):
         i = act["coordinate"]
-        ratio = params.get(f"gear_{act['joint']}", act["gear_ratio"])
+        ratio = drives[k].gear_ratio
         tq, w = tau[:, k], qd[:, i]
         power = tq * w
         energy = float(_trapezoid(power, t)) if len(t) > 1 else 0.0
