@@ -1,5 +1,5 @@
 """Inverse dynamics beyond one generated call: the actuation matrix of a closed chain and the
-split of the actuated torques into their inertial, velocity and gravity parts.
+split of the actuated torques into their inertial, velocity, gravity, friction and rotor parts.
 
 Sign convention, stated once and tested (tests/test_closed_chain.py):
 
@@ -37,20 +37,27 @@ def actuation_matrix(robot: Robot, q: np.ndarray, t=None) -> np.ndarray:
     return a
 
 
-#: the parts of the torque split, in plotting order: name -> label in the plots
-SPLIT_PARTS = {"inertial": "M qdd", "velocity": "C qd", "gravity": "g"}
+#: the parts of the torque split, in plotting order: name -> label in the plots; the drive
+#: train's two (friction, rotor) are zero for a robot without actuator models
+SPLIT_PARTS = {"inertial": "M qdd", "velocity": "C qd", "gravity": "g", "friction": "D(qd)",
+               "rotor": "rotors"}
 
 
 def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
-    """The actuated torques split into inertial, velocity-dependent and gravity parts.
+    """The actuated torques split into inertial, velocity-dependent, gravity, friction and
+    rotor parts.
 
     .. code:: text
 
-        tau = tau(M qdd) + tau(C qd) + tau(g)
+        tau = tau(M qdd) + tau(C qd) + tau(g) + tau(D(qd)) + tau(rotors)
 
-    For a tree every joint is actuated and the parts are the terms themselves. For a closed
-    chain the torques come from the linear solve ``[S^T Phi_q^T] [tau; lambda] = M qdd + h``,
-    so each term is pushed through the same matrix and the parts still add up to tau.
+    ``M``, ``C`` are the links' own (rotor inertias set to zero); ``D(qd) = b qd + c tanh(qd /
+    v_s)`` the drive train's friction; the rotor part is everything the rotors' inertia adds
+    (``N^2 J_m qdd`` and its coupling to the parent body, and their velocity terms): the full
+    ``M qdd + h`` less the links' with the same friction. For a tree every joint is actuated and
+    the parts are the terms themselves. For a closed chain the torques come from the linear
+    solve ``[S^T Phi_q^T] [tau; lambda] = M qdd + h``, so each term is pushed through the same
+    matrix and the parts still add up to tau.
 
     Parameters
     ----------
@@ -67,10 +74,18 @@ def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
     """
     q, qd, qdd = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (q, qd, qdd))
     n_s, n = q.shape
-    mass = robot.mass_matrix(q).reshape(n_s, n, n)
-    h = robot.bias(q, qd).reshape(n_s, n)
-    g = robot.gravity(q).reshape(n_s, n)
-    terms = np.stack([(mass @ qdd[..., None])[..., 0], h - g, g], axis=-1)  # (N, n, 3)
+    drives = robot.drive_train
+    links = robot.with_parameters(**{f"jm_{d.joint}": 0.0 for d in drives.drives
+                                     if d.rotor_inertia}) if drives.has_rotors else robot
+    mass = links.mass_matrix(q).reshape(n_s, n, n)
+    h = links.bias(q, qd).reshape(n_s, n)
+    g = links.gravity(q).reshape(n_s, n)
+    friction = drives.friction(qd)
+    rotor = (robot.tree_inverse_dynamics(q, qd, qdd).reshape(n_s, n)
+             - links.tree_inverse_dynamics(q, qd, qdd).reshape(n_s, n)
+             if drives.has_rotors else np.zeros((n_s, n)))
+    terms = np.stack([(mass @ qdd[..., None])[..., 0], h - g - friction, g, friction, rotor],
+                     axis=-1)  # (N, n, parts)
     if robot.is_closed_chain:
         terms = _through_actuation(robot, q, terms, t)
     return {k: terms[:, :, i] for i, k in enumerate(SPLIT_PARTS)}

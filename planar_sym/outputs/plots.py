@@ -16,7 +16,7 @@ from ..dynamics.inverse import SPLIT_PARTS
 from ..study.result import Result
 
 #: colours of the split parts (plotting order of dynamics.inverse.SPLIT_PARTS), total in black
-SPLIT_COLOURS = ("tab:blue", "tab:orange", "tab:green")
+SPLIT_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")
 
 
 def new_figure(figsize: tuple[float, float]):
@@ -145,13 +145,19 @@ def control_figure(result: Result):
 
 
 def split_figure(result: Result):
-    """Each actuated torque (N*m) against t (s) with its parts M qdd, C qd and g.
+    """Each actuated torque (N*m) against t (s) with its parts M qdd, C qd, g and, where the
+    drive train has them, friction D(qd) and the rotors' share.
 
     The parts are ``result.split`` (see ``dynamics.inverse.torque_split``); the total is the torque
     column ``tau<k>_n_m`` where the result has one, else (forward dynamics, zero torque) their
     sum. k numbers the robot's coordinates: the actuated ones are ``result.actuated``.
     """
-    parts = [result.split[k] for k in SPLIT_PARTS]
+    # the drive train's parts only where they are not zero throughout (no actuator model)
+    shown = [k for i, k in enumerate(SPLIT_PARTS)
+             if k in result.split and (i < 3 or np.any(result.split[k]))]
+    parts = [result.split[k] for k in shown]
+    labels = [SPLIT_PARTS[k] for k in shown]
+    colours = [SPLIT_COLOURS[list(SPLIT_PARTS).index(k)] for k in shown]
     n_act = parts[0].shape[1]
     fig, axes = _axes(n_act)
     t = result.columns["t_s"]
@@ -162,7 +168,7 @@ def split_figure(result: Result):
         total = result.columns.get(f"{name}_n_m", result.columns.get(f"{name}_n",
                                                                      sum(p[:, k] for p in parts)))
         ax.plot(t, total, color="black", lw=2.2, label=f"{name} (total)")
-        for part, label, colour in zip(parts, SPLIT_PARTS.values(), SPLIT_COLOURS):
+        for part, label, colour in zip(parts, labels, colours):
             ax.plot(t, part[:, k], color=colour, lw=1.3, label=label)
         ax.axhline(0.0, color="grey", lw=0.6)
         ax.set_ylabel(f"force {name} (N)" if force else f"torque {name} (N*m)")
@@ -173,7 +179,9 @@ def split_figure(result: Result):
     how = "each part through [S^T Phi_q^T], as tau is" if closed else "tau = M qdd + C qd + g"
     if not result.torques():
         how += "; tau = 0 here: the parts balance"
-    _finish(fig, axes, result, f"torque split: inertial M qdd, velocity C qd, gravity g ({how})")
+    names = {"inertial": "inertial M qdd", "velocity": "velocity C qd", "gravity": "gravity g",
+             "friction": "friction D(qd)", "rotor": "rotors"}
+    _finish(fig, axes, result, f"torque split: {', '.join(names[k] for k in shown)} ({how})")
     return fig
 
 

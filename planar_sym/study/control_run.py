@@ -165,8 +165,8 @@ def torque_input(st: specs.Study, robot: Robot, tq, t_end: float, fld: str):
 
 
 def _split(robot: Robot, plant: Robot, run: ControlledRun) -> dict[str, np.ndarray]:
-    """The applied torques split into M qdd, C qd and g along the motion the plant made (its
-    accelerations from its own dynamics); {} for an arm with passive joints."""
+    """The applied torques split into M qdd, C qd, g, friction and rotors along the motion the
+    plant made (its accelerations from its own dynamics); {} for an arm with passive joints."""
     from ..dynamics.forward_closed import kkt_accelerations
     from ..dynamics.inverse import torque_split
 

@@ -28,8 +28,9 @@ class Result:
     ``kind`` says what the main figure shows: ``"angles"`` (joint angles), ``"torques"``, or
     ``"control"`` (reference against actual, tracking errors, commanded and applied torques).
     ``split`` holds the actuated torques split into parts (keys of
-    ``dynamics.inverse.SPLIT_PARTS``: inertial ``M qdd``, velocity ``C qd``, gravity ``g``), each
-    (N, actuated) in N*m, summing to the torques; it is not written to the CSV. ``solver`` names
+    ``dynamics.inverse.SPLIT_PARTS``: inertial ``M qdd``, velocity ``C qd``, gravity ``g``, the
+    drive train's friction ``D(qd)`` and rotors), each (N, actuated) in N*m, summing to the
+    torques; it is not written to the CSV. ``solver`` names
     the inverse kinematics that ran; ``actuated`` the actuated coordinates (0-based); ``sizing``
     one ``study.sizing.ActuatorSizing`` per actuator (peaks, RMS, power, energy, limits
     exceeded with the time), inverse dynamics only.
