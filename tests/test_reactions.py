@@ -4,9 +4,12 @@
    computation: at each joint the reported force and couple on the child and their opposites on
    the parent, the cut forces from today's multipliers lambda (+lambda on the cut's parent at the
    parent point, -lambda on its child at the child point), gravity at the cg; their sum is
-   ``m a_cg`` and their moment about the cg is ``I alpha`` (relative to the largest term, 1e-12).
-   The revolute couples are the Lagrangian tau (M qdd + h through the multiplier solve), so the
-   moment balance also checks tau against Newton-Euler.
+   ``m a_cg`` and their moment about the cg is ``I alpha`` (relative to the largest term, 1e-12),
+   plus, on a body that carries a rotor's stator, the rotor's spin J (alpha + N qdd) (read from
+   the parameters jm_<joint>, gear_<joint> here). Without a drive model the revolute couples
+   equal the Lagrangian tau (M qdd + h through the multiplier solve) to 1e-12, so the moment
+   balance also checks tau against Newton-Euler; with one, the drive balance holds:
+   ``tau = couple + D(qd) + N J (alpha_parent + N qdd)`` (tests/test_joint_loads_drive.py).
 2. The cut joints' forces against lambda; passive revolute joints carry no couple.
 3. Serial arms against Pinocchio's RNEA: ``data.f[i]`` is the spatial force the parent
    transmits to joint i's subtree, in joint i's frame, about the joint point (1e-10 relative).
@@ -85,9 +88,10 @@ def free_body_residuals(robot, q, qd, qdd, loads: JointLoads) -> tuple[float, fl
                 forces[j["child"]].append((at_child, -f))
             continue
         force, couple = loads.force[:, k], loads.couple[:, k]
-        if j["type"] == "revolute":  # the motor torque: the Lagrangian tau (0 if passive)
-            assert np.array_equal(couple, tau[:, j["coordinate"]])
-            couple = tau[:, j["coordinate"]]
+        if j["type"] == "revolute" and f"jm_{j['name']}" not in par and \
+                f"fv_{j['name']}" not in par:  # no drive model: the Lagrangian tau
+            lagrange = tau[:, j["coordinate"]]
+            assert np.abs(couple - lagrange).max() <= 1e-12 * max(np.abs(tau).max(), 1e-300)
         forces[j["child"]].append((at_child, force))
         couples[j["child"]].append(couple)
         if j["parent"] != "ground":
@@ -96,6 +100,13 @@ def free_body_residuals(robot, q, qd, qdd, loads: JointLoads) -> tuple[float, fl
                          else world(j["parent"], j["parent_point"]))
             forces[j["parent"]].append((at_parent, -force))
             couples[j["parent"]].append(-couple)
+    spin = {b: np.zeros(n_s) for b in bodies}  # rotors' J (alpha_stator + N qdd)
+    for j in manifest["joints"]:
+        inertia = par.get(f"jm_{j['name']}", 0.0)
+        if inertia and j["parent"] != "ground":
+            ratio = par.get(f"gear_{j['name']}", 1.0)
+            spin[j["parent"]] = spin[j["parent"]] + inertia * (
+                acc[:, bodies.index(j["parent"]), 2] + ratio * qdd[:, j["coordinate"]])
     worst_f = worst_m = 0.0
     scale_f = max(np.abs(f).max() for b in bodies for _, f in forces[b])
     terms_m = []
@@ -104,7 +115,7 @@ def free_body_residuals(robot, q, qd, qdd, loads: JointLoads) -> tuple[float, fl
         total_f = sum(f for _, f in forces[b]) - par[f"m_{b}"] * acc[:, i, :2]
         moments = [_cross(r - cg, f) for r, f in forces[b]] + couples[b]
         terms_m += moments
-        total_m = sum(moments) - par.get(f"izz_{b}", 0.0) * acc[:, i, 2]
+        total_m = sum(moments) - par.get(f"izz_{b}", 0.0) * acc[:, i, 2] - spin[b]
         worst_f = max(worst_f, float(np.abs(total_f).max()))
         worst_m = max(worst_m, float(np.abs(total_m).max()))
     scale_m = max(float(np.abs(m).max()) for m in terms_m)
@@ -140,9 +151,12 @@ def test_every_body_balances_at_random_states(robot_name, rng):
     loads = joint_loads(robot, q, qd, qdd)
     res_f, res_m = free_body_residuals(robot, q, qd, qdd, loads)
     assert res_f < FREE_BODY_TOL and res_m < FREE_BODY_TOL, (res_f, res_m)
-    # the revolute couples are the Lagrangian tau; Newton-Euler agrees to rounding
+    # no drive model: the revolute couples agree with the Lagrangian tau to rounding
+    tau, _ = _generalised_forces(robot, q, qd, qdd)
     scale = np.abs(loads.couple).max()
-    assert np.abs(loads.newton_euler_couple - loads.couple).max() < 1e-12 * scale
+    for i, name in enumerate(loads.names):
+        if loads.types[i] == "revolute" and name in loads.drive:
+            assert np.abs(loads.couple[:, i] - loads.drive[name]).max() < 1e-12 * scale
 
 
 @pytest.mark.parametrize("robot_name", CLOSED)
@@ -162,10 +176,11 @@ def test_cut_joints_carry_minus_lambda_and_passive_joints_no_couple(robot_name, 
         if j["type"] == "revolute" and not j["closes_loop"]:
             if j["actuated"]:
                 col = list(robot.actuated).index(j["coordinate"])
-                assert np.array_equal(loads.couple[:, i], tau[:, col])
-            else:  # a passive joint: Newton-Euler finds no couple there either
-                assert np.array_equal(loads.couple[:, i], np.zeros(len(q)))
-                assert np.abs(loads.newton_euler_couple[:, i]).max() < 1e-12 * scale
+                assert np.array_equal(loads.drive[name], tau[:, col])
+                assert np.abs(loads.couple[:, i] - tau[:, col]).max() < 1e-12 * scale
+            else:  # a passive joint: Newton-Euler finds no couple there
+                assert name not in loads.drive
+                assert np.abs(loads.couple[:, i]).max() < 1e-12 * scale
 
 
 def _pinocchio_loads(robot_name, q, qd, qdd):

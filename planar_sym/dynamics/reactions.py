@@ -10,10 +10,23 @@ cut joints of closed chains alike,
     M_j  (N*m)               the couple the parent exerts on the child (counter-clockwise +)
 
 and the child exerts ``-F_j``, ``-M_j`` on the parent at the same point. ``|F_j|`` is the bearing
-load. The couple is the motor torque at a revolute joint (the Lagrangian tau: 0 at a passive
-joint), a reaction moment at a weld and at a prismatic joint. A prismatic joint's force splits
-into its axial part ``F_j . u`` (along the slide axis ``u``, in world axes: the actuator force,
-0 if passive) and its normal part ``F_j . (k x u)`` (``k x u`` = u turned +90 deg).
+load. Loads are link side: what the child's links feel, so every body's free-body balance closes
+with them. The couple is the gearbox's output less the joint's friction at a revolute joint (0
+at a passive one), a reaction moment at a weld and at a prismatic joint. A prismatic joint's
+force splits into its axial part ``F_j . u`` (along the slide axis ``u``, in world axes; 0 if
+passive) and its normal part ``F_j . (k x u)`` (``k x u`` = u turned +90 deg).
+
+The drive train (``Robot.drive_train``) is reported beside: ``drive`` is the generalised force
+the actuator delivers at its joint (the Lagrangian tau of the inverse dynamics, its rotor and
+friction included) and ``motor_torque`` that torque at the motor, tau / N. They differ from
+the link-side couple (or axial force) by the joint's friction and the rotor's inertia:
+
+.. code:: text
+
+    tau_j = M_j (or F_j . u) + D_j(qd_j) + N_j J_j (alpha_parent + N_j qdd_j)
+
+A rotor turns with the body that carries its stator (the joint's parent) at alpha_parent plus
+N qdd_j, so its spin J (alpha_parent + N qdd_j) is part of that body's moment balance.
 
 At a cut joint ``F_j = -lambda``: the multipliers of
 ``M qdd + h = S^T tau + Phi_q^T lambda`` with ``Phi = r(parent point) - r(child point)`` are the
@@ -28,7 +41,7 @@ on the subtree, and the couple follows from the subtree's moment balance about t
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -50,14 +63,20 @@ class JointLoads:
     force : ndarray, shape (N, joints, 2)
         F_j (N, world axes): parent on child, at the joint's child point.
     couple : ndarray, shape (N, joints)
-        M_j (N*m): parent on child. Revolute joints: the Lagrangian tau (the motor torque; 0 at
-        a passive joint of a closed chain and at a cut joint); welds and prismatic joints: the
-        reaction moment from Newton-Euler.
+        M_j (N*m): parent on child, link side, from the child subtree's moment balance. At a
+        revolute joint without a drive model it equals the Lagrangian tau (0 at a passive
+        joint of a closed chain and at a cut joint); welds and prismatic joints: the reaction
+        moment.
     newton_euler_couple : ndarray, shape (N, joints)
-        M_j from the moment balance alone, for every joint: equals ``couple`` to rounding (the
-        check of the revolute joints' tau; 0 at cut joints).
+        The same moment balance for every joint (kept for callers of the earlier split: equal
+        to ``couple``).
     axial, normal : dict of str to ndarray (N,)
-        Prismatic joints only: F_j along the slide axis (the actuator force) and across it (N).
+        Prismatic joints only: F_j along the slide axis and across it (N), link side.
+    drive : dict of str to ndarray (N,)
+        Actuated joints: the generalised force the actuator delivers at the joint (N*m, N at a
+        slider): the inverse dynamics' tau, its rotor and friction included.
+    motor_torque : dict of str to ndarray (N,)
+        Actuated joints: that torque at the motor, tau / N (N*m).
     """
 
     names: tuple[str, ...]
@@ -67,6 +86,8 @@ class JointLoads:
     newton_euler_couple: np.ndarray
     axial: dict[str, np.ndarray]
     normal: dict[str, np.ndarray]
+    drive: dict[str, np.ndarray] = field(default_factory=dict)
+    motor_torque: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def magnitude(self) -> np.ndarray:
@@ -96,6 +117,8 @@ class _Structure:
     revolute: np.ndarray  # (R,) tree joints that are revolute
     revolute_coordinate: np.ndarray  # (R,) their coordinates
     slides: tuple[tuple[int, str], ...]  # prismatic tree joints: (index, name)
+    #: rotors with inertia: (coordinate, body carrying the stator or -1 for ground, N, J kg*m^2)
+    rotors: tuple[tuple[int, int, float, float], ...] = ()
 
 
 _CACHE: dict[tuple, _Structure] = {}
@@ -129,6 +152,11 @@ def _structure(robot: Robot) -> _Structure:
     mass = np.array([par.get(f"m_{b}", 0.0) for b in bodies])
     gravity = par.get("g", 0.0) * np.array(m["gravity_direction"], dtype=float)
     revolute = [k for k, j in enumerate(tree) if j["type"] == "revolute"]
+    by_name = {j["name"]: j for j in tree}
+    rotors = tuple(
+        (d.coordinate, bodies.index(by_name[d.joint]["parent"])
+         if by_name[d.joint]["parent"] != GROUND else -1, d.gear_ratio, d.rotor_inertia)
+        for d in robot.drive_train.drives if d.rotor_inertia != 0.0)
     s = _Structure(
         names=tuple(j["name"] for j in (*tree, *cuts)),
         types=tuple(j["type"] for j in (*tree, *cuts)),
@@ -140,7 +168,8 @@ def _structure(robot: Robot) -> _Structure:
         cut_moment=np.vstack([-child, parent]),
         revolute=np.array(revolute, dtype=int),
         revolute_coordinate=np.array([tree[k]["coordinate"] for k in revolute], dtype=int),
-        slides=tuple((k, j["name"]) for k, j in enumerate(tree) if j["type"] == "prismatic"))
+        slides=tuple((k, j["name"]) for k, j in enumerate(tree) if j["type"] == "prismatic"),
+        rotors=rotors)
     if len(_CACHE) > 64:
         _CACHE.clear()
     _CACHE[key] = s
@@ -199,6 +228,9 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
     fx = acc[:, 0] * s.mass - s.weight[0]
     fy = acc[:, 1] * s.mass - s.weight[1]
     mz = acc[:, 2] * s.izz + cg[:, 0] * fy - cg[:, 1] * fx
+    for coordinate, body, ratio, inertia in s.rotors:  # a rotor's spin, on its stator's body
+        if body >= 0:
+            mz[:, body] += inertia * (acc[:, 2, body] + ratio * qdd[:, coordinate])
     if n_l:
         lx, ly = lam[:, 0::2], lam[:, 1::2]
         fx -= lx @ s.cut_force
@@ -212,11 +244,12 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
     np.negative(lam.reshape(n_s, n_l, 2), out=force[:, n_t:])
     ne_couple = np.zeros((n_s, n_j))
     ne_couple[:, :n_t] = mz @ s.subtree - (px[:, :n_t] * big_fy - py[:, :n_t] * big_fx)
-    couple = ne_couple.copy()
-    couple[:, s.revolute] = tau[:, s.revolute_coordinate]
     axial, normal = {}, {}
     for i, (k, name) in enumerate(s.slides):
         ux, uy = px[:, n_j + n_l + i], py[:, n_j + n_l + i]
         axial[name] = big_fx[:, k] * ux + big_fy[:, k] * uy
         normal[name] = big_fy[:, k] * ux - big_fx[:, k] * uy
-    return JointLoads(s.names, s.types, force, couple, ne_couple, axial, normal)
+    drives = robot.drive_train.drives
+    drive = {d.joint: tau[:, d.coordinate] for d in drives}
+    motor = {d.joint: tau[:, d.coordinate] / d.gear_ratio for d in drives}
+    return JointLoads(s.names, s.types, force, ne_couple, ne_couple, axial, normal, drive, motor)
