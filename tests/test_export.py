@@ -157,20 +157,64 @@ def test_a_changed_robot_exports_its_own_values(tmp_path, rng):
     np.testing.assert_array_equal(model.opt.gravity, [0.0, -3.7, 0.0])
 
 
-def test_actuator_models_are_left_out_and_said_so(derived, tmp_path, rng):
-    """The geared arm's rotor inertia and friction are not in the file (a warning names them):
-    the file is the arm with those figures zero, and differs from the geared arm."""
+def test_the_ideal_machine_leaves_the_drive_train_out(derived, tmp_path, rng):
+    """``ideal=True``: the geared arm's rotor inertia, friction and gears are not in the file
+    (a warning names them): the file is the arm with those figures zero, and differs from the
+    geared arm."""
     geared = derived["serial_2dof_geared"]
     with pytest.warns(RuntimeWarning, match=r"actuator figures jm_joint1, fv_joint1, fc_joint1, "
                                          r"jm_joint2 are not exported"):
-        path = write(geared, tmp_path / "g.xml")
-    assert "NOT exported" in path.read_text()
+        path = write(geared, tmp_path / "g.xml", ideal=True)
+    text = path.read_text()
+    assert "NOT exported" in text and "armature" not in text and 'gear="1"' in text
     rigid = geared.with_parameters(**{k: 0.0 for k in geared.parameters
                                       if k.startswith(("jm_", "fv_", "fc_"))})
     q, qd, qdd = random_states(rng, 30, 2)
     from_file = mj_inverse(path, geared, q, qd, qdd)
     assert rel_err(from_file, rigid.tree_inverse_dynamics(q, qd, qdd)) < GATE
     assert rel_err(from_file, geared.tree_inverse_dynamics(q, qd, qdd)) > 1e-3
+
+
+def test_the_drive_train_with_motors_on_the_ground(derived, tmp_path, rng):
+    """The geared arm with its only rotor on the ground (the elbow's rotor inertia set to 0)
+    and viscous friction only: armature N^2 J_m and damping b make MuJoCo's inverse dynamics
+    ours to 1e-10; the motor's gear and limits are in the file."""
+    geared = derived["serial_2dof_geared"].with_parameters(jm_joint2=0.0, fc_joint1=0.0)
+    path = write(geared, tmp_path / "ground.xml")
+    text = path.read_text()
+    p = geared.parameters
+    assert f'armature="{p["gear_joint1"] ** 2 * p["jm_joint1"]!r}"' in text
+    assert f'damping="{p["fv_joint1"]!r}"' in text and 'frictionloss="' not in text
+    assert 'gear="50.0" ctrllimited="true" ctrlrange="-0.01 0.01"' in text
+    q, qd, qdd = random_states(rng, 30, 2)
+    assert rel_err(mj_inverse(path, geared, q, qd, qdd),
+                   geared.tree_inverse_dynamics(q, qd, qdd)) < GATE
+
+
+def test_a_rotor_on_a_moving_link_differs_by_the_documented_coupling(derived, tmp_path, rng):
+    """The elbow's rotor turns with link1: MuJoCo (armature on the elbow, J_m added to link1's
+    inertia) lacks the coupling N J_m, so its torques are ours less N J_m qdd2 at the shoulder
+    and N J_m qdd1 at the elbow (alpha_link1 = qdd1), exactly as the file's header says."""
+    geared = derived["serial_2dof_geared"].with_parameters(fc_joint1=0.0)
+    with pytest.warns(RuntimeWarning, match=r"jm_joint2: the rotor turns with link1"):
+        path = write(geared, tmp_path / "moving.xml")
+    assert "coupling N J_m" in path.read_text()
+    p = geared.parameters
+    coupling = p["gear_joint2"] * p["jm_joint2"]
+    q, qd, qdd = random_states(rng, 30, 2)
+    ours = geared.tree_inverse_dynamics(q, qd, qdd)
+    documented = ours - coupling * qdd[:, ::-1]
+    mujoco_tau = mj_inverse(path, geared, q, qd, qdd)
+    assert rel_err(mujoco_tau, documented) < GATE
+    assert rel_err(mujoco_tau, ours) > 1e-6  # the difference is real, and it is this one
+
+
+def test_coulomb_friction_becomes_frictionloss_with_a_warning(derived, tmp_path):
+    geared = derived["serial_2dof_geared"]
+    with pytest.warns(RuntimeWarning, match=r"fc_joint1: Coulomb friction 0.005 is exported as "
+                                         r"MuJoCo's frictionloss"):
+        text = write(geared, tmp_path / "c.xml").read_text()
+    assert 'frictionloss="0.005"' in text and "Drive train, NOT exact here" in text
 
 
 # -- closed chains: released from rest, MuJoCo against planar_sym.simulate ------------------

@@ -13,6 +13,9 @@ def register(sub) -> None:
                    help="mjcf or urdf (default: from --out's suffix, .xml or .urdf; else mjcf)")
     p.add_argument("--out", type=Path, default=None,
                    help="file to write (its folder must exist); default ROBOT.xml or ROBOT.urdf")
+    p.add_argument("--ideal", action="store_true",
+                   help="MJCF: the ideal machine (no rotors, friction, gears or limits); default: "
+                        "the drive train as armature, damping, frictionloss, gear and ranges")
     p.set_defaults(fn=run)
 
 
@@ -24,7 +27,7 @@ def run(args) -> int:
         check_out(args.out, Path(args.robot).stem)
     fmt = format_of(args.format, args.out)
     robot = load(args.robot)
-    path = write(robot, args.out, fmt)
+    path = write(robot, args.out, fmt, ideal=args.ideal)
     if not args.quiet:
         kind = "closed chain" if robot.is_closed_chain else "tree"
         print(f"{robot.name}: wrote {path} ({fmt.upper()}, {kind}, {robot.n} joints, "

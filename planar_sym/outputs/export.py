@@ -60,12 +60,15 @@ def check_out(path: Path, name: str = "ROBOT") -> None:
         raise InputError(f"--out {path}: its folder {path.parent} {what}; create it first")
 
 
-def text(robot, fmt: str = "mjcf") -> str:
-    """The file's text: ``to_mjcf(robot)`` or ``to_urdf(robot)`` (``fmt``)."""
-    return FORMATS[format_of(fmt, None)][0](robot)
+def text(robot, fmt: str = "mjcf", ideal: bool = False) -> str:
+    """The file's text: ``to_mjcf(robot, ideal)`` or ``to_urdf(robot)`` (``fmt``; URDF holds
+    the rigid bodies only, so ``ideal`` changes nothing there)."""
+    fmt = format_of(fmt, None)
+    return to_mjcf(robot, ideal=ideal) if fmt == "mjcf" else FORMATS[fmt][0](robot)
 
 
-def write(robot, path: str | Path | None = None, fmt: str | None = None) -> Path:
+def write(robot, path: str | Path | None = None, fmt: str | None = None,
+          ideal: bool = False) -> Path:
     """Write ``robot`` as MJCF or URDF to ``path``, whole or not at all.
 
     Parameters
@@ -76,6 +79,9 @@ def write(robot, path: str | Path | None = None, fmt: str | None = None) -> Path
         folder must exist; it must not be a folder.
     fmt : {"mjcf", "urdf"}, optional
         Default: from the suffix (.xml, .mjcf: MJCF; .urdf: URDF), else MJCF.
+    ideal : bool
+        MJCF: the ideal machine (no rotors, friction, gears or limits); default the robot's
+        drive train where MJCF has a place for it (see ``export_mjcf``).
 
     Returns
     -------
@@ -86,7 +92,7 @@ def write(robot, path: str | Path | None = None, fmt: str | None = None) -> Path
         check_out(Path(path), robot.name)
     fmt = format_of(fmt, None if path is None else Path(path))
     path = Path(path) if path is not None else Path(f"{robot.name}{FORMATS[fmt][1]}")
-    content = text(robot, fmt)
+    content = text(robot, fmt, ideal)
     with atomic_files([path]) as (tmp,):
         tmp.write_text(content)
     return path

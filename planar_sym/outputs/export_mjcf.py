@@ -30,10 +30,24 @@ Construction, generic over the robot (``export_model.RigidModel``):
 The user-facing file adds, without changing the dynamics: visual geoms (capsules from each
 body's centre of gravity to its points, a sphere at the centre of gravity) with ``density 0``,
 ``contype = conaffinity = 0`` and ``inertiafromgeom="false"`` (mass and inertia come from
-``inertial`` only, and nothing collides); one ``motor`` per actuated joint (``ctrl`` is the
-joint torque in N*m, or force in N; unlimited); a camera ``plane`` looking down -z at the
-drawn pose; MuJoCo's constraint and equality flags on (its defaults). The benchmarks' model is
-the same tree with no geoms, motors or header (``viewer=False``).
+``inertial`` only, and nothing collides); one ``motor`` per actuated joint; a camera ``plane``
+looking down -z at the drawn pose; MuJoCo's constraint and equality flags on (its defaults).
+The benchmarks' model is the same tree with no geoms, motors or header (``viewer=False``).
+
+The drive train (``Robot.drive_train``), unless the ideal machine is asked for (``ideal``):
+
+* a joint's rotor: ``armature = N^2 J_m`` on the joint, and J_m added to the inertia of the body
+  carrying the stator (the rotor turns with it); the coupling N J_m between the joint and the
+  joints that turn that body has no place in MJCF (armature is diagonal), so for a stator on a
+  moving body MuJoCo's torques differ by ``N J_m alpha_stator`` at the joint and ``N J_m qdd``
+  at each joint turning the stator (the header says so, with the figure);
+* viscous friction: ``damping = b`` (exact); Coulomb friction: ``frictionloss = c``, MuJoCo's dry
+  friction (a soft constraint), not planar-sym's ``c tanh(qd / v_s)``;
+* the motor: ``gear = N``, so ``ctrl`` is the motor torque (N*m); ``ctrlrange`` the motor's
+  torque limit, ``forcerange`` the joint-side limit, where the description gives them.
+
+The ideal machine: no armature, damping or friction, ``gear = 1`` (``ctrl`` the joint torque,
+N*m or N), unlimited.
 """
 
 from __future__ import annotations
@@ -70,13 +84,15 @@ def point_mass_inertia(model: RigidModel, mass_kg: float) -> float:
     return max(POINT_MASS_IZZ * mass_kg * model.span_m()[1] ** 2, MJ_MINVAL_IZZ)
 
 
-def to_mjcf(robot) -> str:
+def to_mjcf(robot, ideal: bool = False) -> str:
     """The MJCF text of ``robot`` with its current parameters, for a user (see module doc).
 
     Parameters
     ----------
     robot : planar_sym.Robot
         Any robot, tree or closed chain, revolute and prismatic joints.
+    ideal : bool
+        True: the rigid bodies and ideal motors only (no rotors, friction, gears or limits).
 
     Returns
     -------
@@ -85,7 +101,7 @@ def to_mjcf(robot) -> str:
         closures ``USER_SOLREF``/``USER_SOLIMP``, a header comment naming robot, description,
         input hash and SI units.
     """
-    model = from_robot(robot)
+    model = from_robot(robot, drives=not ideal)
     # laid out in the drawn pose (on the loops): MuJoCo's reset state (qpos0, the joints'
     # ref) is then a pose the equality constraints hold, not q = 0, where a closed chain's
     # cut joints gape and the first steps blow it apart; qpos stays q
@@ -129,6 +145,11 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
                               f'site2="{j.name}_b"{extra}/>')
     children: dict[str, list[str]] = {}
     bodies: dict[str, str] = {}  # body name -> opening tag with inertial and joint
+    drives = {d.joint: d for d in model.drives}
+    stators: dict[str, float] = {}  # body -> the spin inertia of the rotors it carries
+    for j in model.tree:
+        if j.name in drives:
+            stators[j.parent] = stators.get(j.parent, 0.0) + drives[j.name].rotor_inertia
     for j in model.tree:
         parent, child = model.bodies[j.parent], model.bodies[j.child]
         px, py = parent.points_m[j.parent_point]
@@ -136,6 +157,7 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
         rel = model.rel_angle(j)
         q0 = (ref or {}).get(j.name, 0.0)
         at = f' ref="{q0!r}"' if q0 else ""
+        at += _drive_attributes(drives.get(j.name))
         if j.type == "revolute":
             rel += q0  # turned about the joint point to the laid-out pose
             joint = (f'<joint name="{j.name}" type="hinge" pos="{_v(cx, cy, 0)}" '
@@ -152,7 +174,7 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
         c, s = math.cos(rel), math.sin(rel)
         pos = (px - (c * cx - s * cy), py - (s * cx + c * cy), 0.0)
         quat = (math.cos(rel / 2), 0.0, 0.0, math.sin(rel / 2))
-        izz = child.izz_kg_m2
+        izz = child.izz_kg_m2 + stators.get(j.child, 0.0)
         if viewer and izz == 0.0 and j.moves:  # MuJoCo refuses it (point_mass_inertia)
             izz = point_mass_inertia(model, child.mass_kg)
         inertial = (f'<inertial pos="{_v(*child.cg_m, 0)}" mass="{child.mass_kg!r}" '
@@ -187,14 +209,38 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
                    'rgba="0.35 0.55 0.8 1"/>'),
                    '    <site group="2" rgba="0.9 0.3 0.2 1"/>',
                    "  </default>"]
-        motors = [f"    <motor name={quoteattr(k)} joint={quoteattr(k)} gear=\"1\"/>"
-                  for k in model.actuated]
+        motors = [_motor(k, drives.get(k)) for k in model.actuated]
     return "\n".join([
         *opening,
         "  <worldbody>", *tree, "  </worldbody>",
         *(["  <equality>", *equalities, "  </equality>"] if equalities else []),
         *(["  <actuator>", *motors, "  </actuator>"] if motors else []),
         "</mujoco>", ""])
+
+
+def _drive_attributes(drive) -> str:
+    """A joint's armature (N^2 J_m), damping (b) and frictionloss (c), where non-zero."""
+    if drive is None:
+        return ""
+    out = ""
+    for name, value in (("armature", drive.gear_ratio**2 * drive.rotor_inertia),
+                        ("damping", drive.viscous), ("frictionloss", drive.coulomb)):
+        if value:
+            out += f' {name}="{value!r}"'
+    return out
+
+
+def _motor(joint: str, drive) -> str:
+    """The joint's motor: gear N (ctrl the motor torque), its limits where given."""
+    attrs = f'name={quoteattr(joint)} joint={quoteattr(joint)}'
+    if drive is None:
+        return f'    <motor {attrs} gear="1"/>'
+    attrs += f' gear="{drive.gear_ratio!r}"'
+    if drive.motor_torque_limit is not None:
+        attrs += f' ctrllimited="true" ctrlrange="{_v(-drive.motor_torque_limit, drive.motor_torque_limit)}"'
+    if drive.torque_limit is not None:
+        attrs += f' forcelimited="true" forcerange="{_v(-drive.torque_limit, drive.torque_limit)}"'
+    return f"    <motor {attrs}/>"
 
 
 def _sphere(xy, r: float) -> str:
@@ -211,6 +257,17 @@ def _geoms(cg, points, r: float) -> str:
     return "".join(out)
 
 
+def _motors_sentence(model: RigidModel) -> str:
+    if not model.drives:
+        return ("Motors: one per actuated joint, ctrl = joint torque (N*m) or force (N), "
+                "unlimited (the ideal machine: no rotors, friction or gears).")
+    return ("Motors: one per actuated joint, gear = the gear ratio N, so ctrl = motor torque "
+            "(N*m); ctrlrange = the motor torque limit, forcerange = the joint-side limit where "
+            "given. Drive train: armature = N^2 J_m (rotor), J_m added to the inertia of the "
+            "body carrying the stator, damping = viscous friction, frictionloss = Coulomb "
+            "friction.")
+
+
 def _comment(model: RigidModel, solref, solimp) -> str:
     extra = [("Planar: bodies move in the plane z = 0; gravity [gx, gy, 0] is in the file "
              "(<option gravity>). Body frames are planar-sym's, so qpos = q joint by joint "
@@ -219,7 +276,7 @@ def _comment(model: RigidModel, solref, solimp) -> str:
              ("Inertia: diaginertia izz/2, izz/2, izz (ixx, iyy never enter planar dynamics). "
              "Geoms are visual only (density 0, no contacts): mass and inertia come from "
              "<inertial>."),
-             "Motors: one per actuated joint, ctrl = joint torque (N*m) or force (N), unlimited."]
+             _motors_sentence(model)]
     points = [j.child for j in model.tree
               if j.moves and model.bodies[j.child].izz_kg_m2 == 0.0]
     if points:

@@ -8,10 +8,9 @@ body-frame points, slide offsets, gravity) comes from ``Robot.parameters``, so a
 an exact structural zero (``Description.parameters``) or a point the equations never use (drawn
 only), and keeps the description's value.
 
-Not exported (a rigid-body file has no place that reproduces them exactly): the actuator models'
-rotor inertia (its kinetic energy 1/2 J_m (w_parent + N qd)^2 couples the parent body's rate,
-which MuJoCo's ``armature`` N^2 J_m leaves out), viscous and Coulomb friction (``tanh``
-smoothed here). ``RigidModel.not_exported`` names those a robot has, and every header says so.
+The drive train (``Robot.drive_train``: gear, rotor, friction, limits) goes where the format
+has a place for it (``drives``; MJCF: ``export_mjcf``); what has no exact place is named in
+``RigidModel.not_exported`` and in every header. URDF holds the rigid bodies only.
 """
 
 from __future__ import annotations
@@ -60,7 +59,10 @@ class RigidModel:
     changed : tuple of str
         ``"name = value unit"`` for each parameter that differs from the description's value.
     not_exported : tuple of str
-        Actuator parameters (non-zero) that the exported file does not hold.
+        Actuator figures (non-zero) that the exported file does not hold exactly, each with why.
+    drives : tuple of Drive
+        The actuated joints' drives (``model.drive``) the file holds; empty for the ideal
+        machine or a format without a place for them.
     """
 
     name: str
@@ -76,6 +78,7 @@ class RigidModel:
     source: str = ""
     changed: tuple[str, ...] = ()
     not_exported: tuple[str, ...] = ()
+    drives: tuple = ()
 
     def rel_angle(self, j: Joint) -> float:
         """The child frame's angle to the parent frame (rad) that a weld or prismatic joint keeps
@@ -129,13 +132,16 @@ def from_description(desc: Description) -> RigidModel:
         source=Path(desc.path).name if desc.path else "")
 
 
-def from_robot(robot) -> RigidModel:
+def from_robot(robot, drives: bool = False) -> RigidModel:
     """The robot's description with ``robot.parameters`` (SI) in place of its values.
 
     Parameters
     ----------
     robot : planar_sym.Robot
         A loaded robot (``planar_sym.load``), possibly from ``with_parameters``.
+    drives : bool
+        Carry the drive train (``RigidModel.drives``), for a format that holds it (MJCF);
+        False: the rigid bodies only, every non-zero actuator figure named as not exported.
 
     Raises
     ------
@@ -174,18 +180,43 @@ def from_robot(robot) -> RigidModel:
     defaults = {p["name"]: p["value"] for p in robot.library.manifest["parameters"]}
     changed = tuple(f"{k} = {x!r} {units[k]} (description: {defaults[k]!r})"
                     for k, x in v.items() if k in defaults and x != defaults[k])
-    skipped = tuple(k for k, x in v.items() if k.startswith(ACTUATOR_PREFIXES) and x != 0.0)
-    if skipped:
-        warnings.warn(f"{robot.name}: actuator figures {', '.join(skipped)} are not exported "
-                      "(MJCF and URDF have no exact equivalent): the file holds the rigid bodies "
-                      "only", RuntimeWarning, stacklevel=3)
+    train = robot.drive_train
+    if drives:
+        skipped = _inexact_drives(train, {j.name: j for j in desc.tree_joints})
+        if skipped:
+            warnings.warn(f"{robot.name}: " + "; ".join(skipped), RuntimeWarning, stacklevel=3)
+    else:
+        skipped = tuple(k for k, x in v.items() if k.startswith(ACTUATOR_PREFIXES) and x != 0.0)
+        if skipped:
+            warnings.warn(f"{robot.name}: actuator figures {', '.join(skipped)} are not exported "
+                          "(this file has no place for them): the file holds the rigid bodies "
+                          "only", RuntimeWarning, stacklevel=3)
     return RigidModel(
         robot.name, robot.title, bodies, tuple(desc.tree_joints), tuple(desc.loop_joints),
         {j.name: v.get(f"s0_{j.name}", 0.0) for j in desc.tree_joints if j.type == "prismatic"},
         (g * direction[0], g * direction[1]), robot.coordinates,
         tuple(robot.coordinates[i] for i in robot.actuated),
         robot.library.manifest.get("input_hash", ""),
-        Path(robot.library.manifest.get("input") or path).name, changed, skipped)
+        Path(robot.library.manifest.get("input") or path).name, changed, skipped,
+        train.drives if drives else ())
+
+
+def _inexact_drives(train, joints: dict[str, Joint]) -> tuple[str, ...]:
+    """What MJCF's armature, damping and frictionloss cannot hold exactly, one sentence each."""
+    out = []
+    for d in train.drives:
+        if d.rotor_inertia and joints[d.joint].parent != GROUND:
+            out.append(f"jm_{d.joint}: the rotor turns with {joints[d.joint].parent}; its "
+                       f"coupling N J_m = {d.gear_ratio * d.rotor_inertia!r} kg*m^2 between "
+                       f"{d.joint} and the joints that turn {joints[d.joint].parent} is not "
+                       "exported (armature is diagonal): MuJoCo's torques differ by N J_m "
+                       f"alpha_{joints[d.joint].parent} at {d.joint} and N J_m qdd_{d.joint} at "
+                       "each of those joints")
+        if d.coulomb:
+            out.append(f"fc_{d.joint}: Coulomb friction {d.coulomb!r} is exported as MuJoCo's "
+                       f"frictionloss (dry friction, a soft constraint), not as the smooth "
+                       f"c tanh(qd / {d.smoothing!r}) of planar-sym")
+    return tuple(out)
 
 
 def _with_values(body: Body, v: dict[str, float]) -> Body:
@@ -207,7 +238,9 @@ def header(model: RigidModel, fmt: str, extra: list[str]) -> str:
     if model.changed:
         lines.append("Parameters changed from the description: " + "; ".join(model.changed))
     lines += extra
-    if model.not_exported:
+    if model.not_exported and model.drives:
+        lines.append("Drive train, NOT exact here: " + "; ".join(model.not_exported) + ".")
+    elif model.not_exported:
         lines.append("NOT exported (actuator models, no exact equivalent here): "
                      f"{', '.join(model.not_exported)}; the file holds the rigid bodies only.")
     return "\n".join("  " + line.replace("--", "- -") for line in lines)
