@@ -1990,13 +1990,34 @@ def export_missing_folder(ctx):
     _cli(ctx, "export", "serial_2dof", "--out", str(ctx.tmp / "missing" / "r.xml"))
 
 
-@bad(EXCHANGE, "exporting a robot with actuator models (`examples/serial_2dof_geared.toml`)",
+@bad(EXCHANGE, "exporting a robot with actuator models to URDF (`examples/serial_2dof_geared."
+               "toml`)",
      Warned, r"serial_2dof_geared: actuator figures jm_joint1, fv_joint1, fc_joint1, jm_joint2 "
-             r"are not exported \(MJCF and URDF have no exact equivalent\)",
+             r"are not exported \(this file has no place for them\)",
      "serial_2dof_geared: actuator figures jm_joint1, fv_joint1, fc_joint1, jm_joint2 are not "
-     "exported (MJCF and URDF have no exact equivalent): the file holds the rigid bodies only",
+     "exported (this file has no place for them): the file holds the rigid bodies only",
      see=TE)
 def export_actuators(ctx):
+    robot = ps.load(ROOT / "examples" / "serial_2dof_geared.toml")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        path = ps.export(robot, ctx.tmp / "geared.urdf")
+    assert path.stat().st_size > 0
+    (shown,) = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    raise Warned(str(shown.message))
+
+
+@bad(EXCHANGE, "exporting to MJCF a drive train MJCF cannot hold exactly: Coulomb friction and "
+               "a rotor on a moving link (`examples/serial_2dof_geared.toml`)",
+     Warned, r"serial_2dof_geared: fc_joint1: Coulomb friction 0\.005 is exported as MuJoCo's "
+             r"frictionloss .*; jm_joint2: the rotor turns with link1; its coupling N J_m",
+     "serial_2dof_geared: fc_joint1: Coulomb friction 0.005 is exported as MuJoCo's "
+     "frictionloss (dry friction, a soft constraint), not as the smooth c tanh(qd / 0.01) of "
+     "planar-sym; jm_joint2: the rotor turns with link1; its coupling N J_m = "
+     "2.4999999999999998e-05 kg*m^2 between joint2 and the joints that turn link1 is not "
+     "exported (armature is diagonal): MuJoCo's torques differ by N J_m alpha_link1 at joint2 "
+     "and N J_m qdd_joint2 at each of those joints", see=TE)
+def export_drive_not_exact(ctx):
     robot = ps.load(ROOT / "examples" / "serial_2dof_geared.toml")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

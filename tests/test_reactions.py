@@ -152,7 +152,6 @@ def test_every_body_balances_at_random_states(robot_name, rng):
     res_f, res_m = free_body_residuals(robot, q, qd, qdd, loads)
     assert res_f < FREE_BODY_TOL and res_m < FREE_BODY_TOL, (res_f, res_m)
     # no drive model: the revolute couples agree with the Lagrangian tau to rounding
-    tau, _ = _generalised_forces(robot, q, qd, qdd)
     scale = np.abs(loads.couple).max()
     for i, name in enumerate(loads.names):
         if loads.types[i] == "revolute" and name in loads.drive:
