@@ -8,7 +8,9 @@ Rules, with their figures:
   the largest distance from its centre of gravity to its points (as in the description; here
   the points the equations use and the frame origin, which is always one of its points);
 * gravity magnitude ``g`` from 0 to ``G_LIMIT`` = 300 m/s^2 (the Sun's surface gives 274;
-  more is a unit slip such as mm/s^2 read as m/s^2), the bound the description's gravity has.
+  more is a unit slip such as mm/s^2 read as m/s^2), the bound the description's gravity has;
+* the drive train, as ``[joints.actuator]`` is checked (``ACTUATOR_RULES``): gear ratios and
+  Coulomb smoothing speeds > 0; rotor inertias, viscous and Coulomb friction >= 0.
 """
 
 from __future__ import annotations
@@ -16,6 +18,23 @@ from __future__ import annotations
 import math
 
 from .description import CLOSURE_TOLERANCE_M, G_LIMIT, GYRATION_LIMIT
+
+#: parameter prefix -> (strictly positive?, what it is, unit): the rules of [joints.actuator]
+ACTUATOR_RULES = {
+    "gear_": (True, "gear ratio", "(motor rad per joint rad, or per m)"),
+    "vs_": (True, "Coulomb smoothing speed", "rad/s (m/s)"),
+    "jm_": (False, "rotor inertia", "kg*m^2"),
+    "fv_": (False, "viscous friction", "N*m*s/rad (N*s/m)"),
+    "fc_": (False, "Coulomb friction", "N*m (N)"),
+}
+
+
+def _actuator_problem(name: str, v: float) -> str | None:
+    for prefix, (positive, what, unit) in ACTUATOR_RULES.items():
+        if name.startswith(prefix) and ((positive and not v > 0) or v < 0):
+            return (f"parameter {name} ({what}) must be {'> 0' if positive else '>= 0'} {unit} "
+                    f"(got {v:.6g})")
+    return None
 
 
 def problems(values: dict[str, float], bodies: tuple[str, ...]) -> list[str]:
@@ -29,6 +48,7 @@ def problems(values: dict[str, float], bodies: tuple[str, ...]) -> list[str]:
     g = values.get("g")
     if g is not None and not 0.0 <= g <= G_LIMIT:
         out.append(f"parameter g must be from 0 to {G_LIMIT:g} m/s^2 (got {g:.6g}); a unit slip?")
+    out += [msg for name, v in values.items() if (msg := _actuator_problem(name, v))]
     for body in bodies:
         m, izz = values.get(f"m_{body}"), values.get(f"izz_{body}")
         if m is not None and not m > 0:
@@ -79,6 +99,10 @@ def failing(names: list[str], P, bodies: tuple[str, ...]):
     bad = ~np.all(np.isfinite(P), axis=1)
     if "g" in col:
         bad |= ~((col["g"] >= 0.0) & (col["g"] <= G_LIMIT))
+    for name, v in col.items():
+        for prefix, (positive, _, _) in ACTUATOR_RULES.items():
+            if name.startswith(prefix):
+                bad |= ~(v > 0) if positive else v < 0
     with np.errstate(invalid="ignore", divide="ignore"):
         for body in bodies:
             m, izz = col.get(f"m_{body}"), col.get(f"izz_{body}")

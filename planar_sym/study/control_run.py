@@ -25,7 +25,7 @@ from ..motion.profiles import JointTrajectory
 from . import spec as specs
 from .columns import coordinates_note, task_columns
 from .motion import check_width, coordinate_scale, joint_motion
-from .parameters import to_si
+from .parameters import with_overrides
 from .result import Result, coordinate_column
 from .sizing import size
 
@@ -38,7 +38,7 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None) -> Re
     where = str(st.path or st.name)
     plant = robot
     if cs.plant:
-        plant = robot.with_parameters(**to_si(robot, cs.plant, f"{where}: control.plant"))
+        plant = with_overrides(robot, cs.plant, f"{where}: control.plant")
     jt, _ = joint_motion(st, robot)
     t_end = cs.duration_s or float(jt.t_s[-1])
     ref_full = _reference(jt, t_end, where)

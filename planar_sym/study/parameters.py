@@ -55,3 +55,14 @@ def to_si(robot: Robot, overrides: dict[str, tuple[float, str | None]],
         raise InputError("; ".join(problems) if len(problems) == 1
                          else "invalid parameters:\n  " + "\n  ".join(problems))
     return out
+
+
+def with_overrides(robot: Robot, overrides: dict[str, tuple[float, str | None]],
+                   where: str) -> Robot:
+    """``robot.with_parameters`` of the SI values of ``overrides`` (``to_si``), a value the
+    physical rules refuse named by ``where`` (the file and table it came from)."""
+    values = to_si(robot, overrides, where)
+    try:
+        return robot.with_parameters(**values)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None

@@ -29,7 +29,7 @@ from .builtin import find as find_builtin
 from .columns import coordinates_note as _coordinates_note
 from .columns import task_columns
 from .motion import initial_state, joint_motion
-from .parameters import to_si
+from .parameters import with_overrides
 from .result import Result, coordinate_column
 from .sizing import size
 
@@ -49,7 +49,7 @@ def robot_of(study: specs.Study) -> Robot:
     robot = load(study.robot)
     if study.parameters:
         where = f"{study.path}: parameters" if study.path else "parameters"
-        robot = robot.with_parameters(**to_si(robot, study.parameters, where))
+        robot = with_overrides(robot, study.parameters, where)
     return robot
 
 

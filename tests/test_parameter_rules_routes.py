@@ -1,0 +1,92 @@
+"""One rule per drive-train parameter on every route a value can enter by: the description's
+``[joints.actuator]`` rules (gear ratio and Coulomb smoothing > 0; rotor inertia, viscous and
+Coulomb friction >= 0) hold for ``with_parameters``, a study's ``[parameters]``,
+``[control.plant]``, ``planar-sym move --set`` and a sweep's range, each refused with the
+parameter named (before, every route but the description accepted a negative gear ratio or
+friction silently: the sizing table then showed negative motor speeds, and a free motion gained
+energy from "friction")."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import ROOT
+
+import planar_sym as ps
+from planar_sym.cli import main
+from planar_sym.errors import InputError
+from planar_sym.model.parameters import failing, problems
+
+GEARED = ROOT / "examples" / "serial_2dof_geared.toml"
+BAD = {"gear_joint1": (-50.0, r"gear_joint1 \(gear ratio\) must be > 0"),
+       "vs_joint1": (0.0, r"vs_joint1 \(Coulomb smoothing speed\) must be > 0"),
+       "jm_joint2": (-1e-7, r"jm_joint2 \(rotor inertia\) must be >= 0"),
+       "fv_joint1": (-0.001, r"fv_joint1 \(viscous friction\) must be >= 0"),
+       "fc_joint1": (-0.005, r"fc_joint1 \(Coulomb friction\) must be >= 0")}
+
+
+@pytest.fixture(scope="module")
+def geared():
+    return ps.load(GEARED)
+
+
+@pytest.mark.parametrize("name", BAD)
+def test_with_parameters(geared, name):
+    value, message = BAD[name]
+    with pytest.raises(InputError, match=message):
+        geared.with_parameters(**{name: value})
+    geared.with_parameters(**{name: 0.0 if name.startswith(("jm", "fv", "fc")) else 1.0})
+
+
+def test_the_column_rules_agree_with_the_scalar_ones(geared):
+    """The sweep's column-wise check (failing) and the message's (problems) on random designs
+    around the example's drive, half of them bad in one drive figure."""
+    rng = np.random.default_rng(5)
+    names = [p.name for p in geared.parameter_list]
+    P = np.tile(geared.p, (200, 1))
+    for k in range(200):
+        name = list(BAD)[k % len(BAD)]
+        P[k, names.index(name)] = rng.uniform(-1, 1) * abs(geared.parameters[name] or 1)
+    bad = failing(names, P, geared.body_names)
+    assert bad.any() and not bad.all()
+    for k in range(200):
+        assert bad[k] == bool(problems(dict(zip(names, P[k])), geared.body_names)), k
+
+
+def _study(tmp_path, kind: str, extra: str) -> str:
+    text = (ROOT / "planar_sym" / "studies" / f"serial_2dof_cartesian_{kind}.toml").read_text()
+    text = text.replace('robot = "serial_2dof"', f'robot = "{GEARED}"')
+    path = tmp_path / f"{kind}.toml"
+    path.write_text(text.split("[outputs]")[0] + extra)
+    return str(path)
+
+
+def test_a_study_parameter(tmp_path, capsys):
+    study = _study(tmp_path, "move", "\n[parameters]\ngear_joint1 = -50\n")
+    assert main(["run", study, "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "gear_joint1 (gear ratio) must be > 0" in err and "Traceback" not in err
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_a_control_plant_parameter(tmp_path, capsys):
+    study = _study(tmp_path, "track", "")
+    text = open(study).read().replace("m_link2 = 0.09", "m_link2 = 0.09\nfv_joint1 = -0.001")
+    open(study, "w").write(text)
+    assert main(["run", study, "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "fv_joint1 (viscous friction) must be >= 0" in err and "control.plant" in err
+
+
+def test_move_set(tmp_path, capsys):
+    code = main(["move", str(GEARED), "--joint", "--from", "0,0", "--by", "30,0",
+                 "--duration", "1", "--set", "jm_joint2=-1e-7", "--out", str(tmp_path)])
+    assert code == 2
+    assert "jm_joint2 (rotor inertia) must be >= 0" in capsys.readouterr().err
+
+
+def test_a_sweep_range(tmp_path):
+    study = _study(tmp_path, "move", "")
+    with pytest.raises(InputError, match=r"design 0 \(gear_joint1 = -10\) is not physical: "
+                                         r"parameter gear_joint1 \(gear ratio\) must be > 0"):
+        ps.sweep(study, {"gear_joint1": [-10.0, 10.0, 50.0]})
