@@ -8,6 +8,8 @@ energy from "friction")."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from conftest import ROOT
@@ -71,8 +73,8 @@ def test_a_study_parameter(tmp_path, capsys):
 
 def test_a_control_plant_parameter(tmp_path, capsys):
     study = _study(tmp_path, "track", "")
-    text = open(study).read().replace("m_link2 = 0.09", "m_link2 = 0.09\nfv_joint1 = -0.001")
-    open(study, "w").write(text)
+    path = Path(study)
+    path.write_text(path.read_text().replace("m_link2 = 0.09", "m_link2 = 0.09\nfv_joint1 = -0.001"))
     assert main(["run", study, "--out", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
     assert "fv_joint1 (viscous friction) must be >= 0" in err and "control.plant" in err
