@@ -23,216 +23,35 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import PlanarSymError
 from ..model.robot import Robot
+from .validate_rows import (
+    TOL_ENERGY,
+    TOL_PHI_M,
+    TOL_POWER,
+    TOL_RATES,
+    TOL_ROUTE,
+    TOL_SYMBOLIC,
+    Row,
+    random_states,
+    rel_err,
+    row,
+    worst_key,
+)
+from .validate_symbolic import check_symbolic, find_description
+
+__all__ = ["TOL_ENERGY", "TOL_PHI_M", "TOL_POWER", "TOL_RATES", "TOL_ROUTE", "TOL_SYMBOLIC",
+           "Row", "check_symbolic", "find_description", "random_states", "rel_err", "row"]
 
 #: 4th-order central differences: f'(0) ~ sum c f(k s) / s, f''(0) ~ sum c f(k s) / s^2.
 #: Truncation ~ s^4 f^(5), rounding ~ eps f / s: s = 1e-3 keeps both near 1e-12 relative.
 D1 = {-2: 1 / 12, -1: -8 / 12, 1: 8 / 12, 2: -1 / 12}
 D2 = {-2: -1 / 12, -1: 16 / 12, 0: -30 / 12, 1: 16 / 12, 2: -1 / 12}
 STEP = 1e-3  # rad for q, s for time
-
-TOL_SYMBOLIC = 1e-11  # same expressions, different evaluation order: rounding only
-TOL_ROUTE = 1e-7  # finite differences of the energy: ~1e-10 measured, kept well above
-TOL_ENERGY = 1e-8  # relative energy drift over the free motion (integrator rtol 1e-11)
-TOL_POWER = 1e-6  # finite differences in time of E along a smooth motion
-TOL_PHI_M = 1e-9  # loop residual, m (Newton stops at 1e-13 m)
-TOL_RATES = 1e-6  # passive qd, qdd against differences of the Newton-solved q(t)
-
-
-@dataclass(frozen=True)
-class Row:
-    """One line of the validation table (``planar-sym validate``, ``planar_sym.validate``).
-
-    Attributes
-    ----------
-    check : str
-        What was checked, e.g. "(c) energy drift, free motion 1 s".
-    worst : float or None
-        The worst figure found (a relative error, or the loop residual in m); None when the
-        check was skipped, inf when it raised.
-    tolerance : float or None
-        What ``worst`` must not exceed to pass (same unit).
-    status : str
-        ``"pass"``, ``"FAIL"`` or ``"skipped"``.
-    detail : str
-        Where the worst figure was, or why the check was skipped or failed.
-    """
-
-    check: str
-    worst: float | None  # the worst figure; None when skipped
-    tolerance: float | None
-    status: str  # "pass", "FAIL" or "skipped"
-    detail: str = ""
-
-
-def row(check: str, worst: float, tol: float, detail: str = "") -> Row:
-    """A Row that passes when ``worst`` is finite and at most ``tol``, else fails."""
-    ok = math.isfinite(worst) and worst <= tol
-    return Row(check, worst, tol, "pass" if ok else "FAIL", detail)
-
-
-def rel_err(a, b, peak: bool = False, scale: float = 0.0) -> float:
-    """Worst per-sample ``||a_k - b_k|| / ||b_k||`` (random states), or relative to the largest
-    ``||b_k||`` (``peak``: along a motion, where every rate passes through zero together).
-
-    ``scale`` (same unit as ``b``): the quantity's physical size, the floor of every sample's
-    denominator, for a quantity that may vanish everywhere; 0 keeps the reference's own size.
-    """
-    a = np.asarray(a, dtype=float).reshape(len(a), -1)
-    b = np.asarray(b, dtype=float).reshape(len(b), -1)
-    diff, size = np.max(np.abs(a - b), axis=1), np.max(np.abs(b), axis=1)
-    if size.max() == 0.0 and scale == 0.0:  # an all-zero reference, no scale: absolute
-        return float(diff.max())
-    floor = 1.0 if peak else 1e-12  # a (near) zero sample is measured against the largest
-    return float(np.max(diff / np.maximum(size, max(floor * size.max(), scale))))
-
-
-def random_states(robot: Robot, samples: int, seed: int):
-    """Random states drawn with ``seed``, each of shape (samples, n): q uniform in [-pi, pi]
-    (rad); qd (rad/s), qdd (rad/s^2) and tau (N*m) uniform in [-3, 3].
-
-    A joint with Coulomb friction gets |qd| >= 20 v_s: its tanh(qd / v_s) turns over within a
-    few v_s of rest (0.01 rad/s by default), too sharply for differences with a 1e-3 step;
-    beyond 20 v_s its slope is below 1e-16 of c / v_s.
-    """
-    rng = np.random.default_rng(seed)
-    q = rng.uniform(-np.pi, np.pi, (samples, robot.n))
-    qd, qdd, tau = (rng.uniform(-3, 3, (samples, robot.n)) for _ in range(3))
-    drives = robot.drive_train
-    away = np.where(drives.coulomb != 0.0, 20.0 * drives.smoothing, 0.0)
-    qd = np.where(np.abs(qd) < away, np.copysign(away, qd) + qd, qd)
-    return q, qd, qdd, tau
-
-
-# -- (a) SymPy ----------------------------------------------------------------------------------
-def find_description(robot: Robot, given: Path | None = None) -> Path | None:
-    """The description: the one given (which must exist), else the robot's own (a built-in's,
-    or the copy ``planar-sym derive`` writes); never another robot's of the same name."""
-    from ..errors import InputError
-
-    if given is not None:
-        if not Path(given).is_file():
-            raise InputError(f"--description {given}: no such file")
-        return Path(given)
-    own = robot.description_file
-    if own is not None:
-        return own
-    # a copied generated folder: the manifest names the repo file it was derived from (a
-    # repo-relative path; a bare file name means a file outside the repo, not to be guessed)
-    source = robot.library.manifest.get("input", "")
-    path = Path(__file__).resolve().parents[2] / source
-    return path if "/" in source and path.is_file() else None
-
-
-def check_symbolic(robot: Robot, description: Path | None = None, samples: int = 20,
-                   seed: int = 1) -> Row:
-    """(a) Every output of every compiled function (and of the fast loops) against the SymPy
-    model derived again from the description, at ``samples`` random states; skipped without
-    SymPy or without a description file."""
-    name = f"(a) compiled vs SymPy, {samples} random states"
-    try:
-        import sympy  # noqa: F401  (explicitly: derive may already be imported)
-    except ImportError:
-        return Row(name, None, TOL_SYMBOLIC, "skipped", "skipped: needs SymPy")
-    if robot.library.manifest.get("equations") == "structure":
-        return Row(name, None, TOL_SYMBOLIC, "skipped",
-                   "skipped: past the closed-form size (the report shows why); the expanded "
-                   "forms would take minutes, the other rows still check the compiled code")
-    path = find_description(robot, description)
-    if path is None:
-        return Row(name, None, TOL_SYMBOLIC, "skipped",
-                   "skipped: no description file found (pass --description)")
-    from ..model import description as descriptions
-    from ..model.deriving import symbolic_model
-
-    model = symbolic_model(descriptions.load(path))
-    if [str(s) for s in model.sym.p] != [p.name for p in robot.parameter_list]:
-        return Row(name, math.inf, TOL_SYMBOLIC, "FAIL", f"{path}: parameter vector differs")
-    states = dict(zip(("q", "qd", "qdd", "tau"), random_states(robot, samples, seed)))
-    refs = _sympy_reference(model, robot.p, states)
-    def ref_for(quantity: str, out: str) -> np.ndarray:
-        # the fused closed-chain solve returns the actuated torques only
-        return refs["closed.tau"] if (quantity, out) == ("closed_inverse_dynamics", "tau") \
-            else refs[out]
-
-    errs = {f"{quantity}.{out}": rel_err(value, ref_for(quantity, out))
-            for quantity, fn in robot.library.functions.items()
-            for out, value in fn(samples, {k: (robot.p if k == "p" else states[k])
-                                           for k, _ in fn.spec.inputs}).items()}
-    if not robot.exact:  # the vectorised loops the robot's methods call, too
-        q, qd, qdd, tau = (states[k] for k in ("q", "qd", "qdd", "tau"))
-        fast = {"mass_matrix.M": robot.mass_matrix(q), "gravity.g": robot.gravity(q),
-                "bias.h": robot.bias(q, qd),
-                "inverse_dynamics.tau": robot.tree_inverse_dynamics(q, qd, qdd),
-                "energy.kinetic": robot.energy(q, qd)[0]}
-        if not robot.is_closed_chain:
-            fast["forward_dynamics.qdd"] = robot.forward_dynamics(q, qd, tau)
-        errs.update({f"fast {k}": rel_err(v, refs[k.split(".")[1]]) for k, v in fast.items()})
-    where = _worst(errs)
-    return row(name, errs[where], TOL_SYMBOLIC, f"worst: {where}; from {path}")
-
-
-def _worst(errs: dict[str, float]) -> str:
-    """The key of the largest error, NaN counting as the largest."""
-    return max(errs, key=lambda k: errs[k] if errs[k] == errs[k] else math.inf)
-
-
-def _sympy_reference(model, p, states) -> dict[str, np.ndarray]:
-    """Every output name evaluated from the SymPy expressions, sample by sample."""
-    import sympy as sp
-
-    s, lag, con = model.sym, model.lagrangian, model.constraints
-    M, h = lag.mass_matrix, lag.bias
-    exprs = {"M": M, "h": h, "g": lag.gravity, "tau": M * sp.Matrix(s.qdd) + h,
-             "kinetic": sp.Matrix([lag.kinetic]), "potential": sp.Matrix([lag.potential]),
-             "x": model.task, "J": model.task_jacobian, "jdot_qd": model.task_jdot_qd,
-             "frames": model.frames, "phi": con.phi, "phi_q": con.jacobian,
-             "gamma": con.accel_bias, "dh_dq": h.jacobian(s.q), "dh_dqd": h.jacobian(s.qd),
-             "dM": sp.Matrix.hstack(*[M.diff(qk) for qk in s.q]),
-             # body_motion's outputs: one component per row, one body (or point) per column
-             "accelerations": model.body_accelerations.T, "cg": model.cg_positions.T,
-             "joint_points": model.joint_points.T}
-    keys = list(exprs)
-    fn = sp.lambdify([*s.q, *s.qd, *s.qdd, *s.tau, *s.p], [exprs[k] for k in keys], "numpy")
-    out: dict[str, list] = {k: [] for k in [*keys, "qdd", "dqdd_dq", "dqdd_dqd"]}
-    n = len(s.q)
-    for k in range(len(states["q"])):
-        vals = fn(*(v for key in ("q", "qd", "qdd", "tau") for v in states[key][k]), *p)
-        r = {key: np.array(v, dtype=float) for key, v in zip(keys, vals)}
-        acc = np.linalg.solve(r["M"], states["tau"][k] - r["h"].ravel())
-        dm = np.column_stack([r["dM"][:, i * n:(i + 1) * n] @ acc for i in range(n)])
-        r.update(qdd=acc, dqdd_dq=np.linalg.solve(r["M"], -dm - r["dh_dq"]),
-                 dqdd_dqd=-np.linalg.solve(r["M"], r["dh_dqd"]))
-        for key, v in r.items():
-            out[key].append(v)
-    refs = {k: np.array(v) for k, v in out.items() if v}
-    if con.phi.shape[0]:  # closed chains: the fused solve, by numpy from the SymPy M, h, Phi_q
-        refs.update(_closed_reference(model, refs, states["qd"], states["qdd"]))
-    return refs
-
-
-def _closed_reference(model, refs: dict, qd: np.ndarray, qdd: np.ndarray
-                      ) -> dict[str, np.ndarray]:
-    """tau (actuated), lambda and cond of closed_inverse_dynamics from [S^T Phi_q^T] solved,
-    and its loop residuals Phi_q qd, Phi_q qdd - gamma."""
-    act = list(model.desc.actuated)
-    n = len(model.sym.q)
-    pas = [i for i in range(n) if i not in act]
-    jac = refs["phi_q"]
-    a = np.zeros((len(jac), n, n))
-    a[:, act, np.arange(len(act))] = 1.0
-    a[:, :, len(act):] = jac.transpose(0, 2, 1)
-    sol = np.linalg.solve(a, refs["tau"].reshape(len(jac), n, 1))[..., 0]
-    return {"closed.tau": sol[:, :len(act)], "lambda": sol[:, len(act):],
-            "cond": np.linalg.cond(jac[:, :, pas].transpose(0, 2, 1), 1),
-            "phi_v": np.einsum("kij,kj->ki", jac, qd),
-            "phi_a": np.einsum("kij,kj->ki", jac, qdd) - refs["gamma"].reshape(len(jac), -1)}
 
 
 # -- (b) Lagrange from the energy ---------------------------------------------------------------
@@ -314,7 +133,7 @@ def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
         got["forward_dynamics_jacobian.dqdd_dq"] = (jac["dqdd_dq"], np.stack(by_q, axis=2))
         got["forward_dynamics_jacobian.dqdd_dqd"] = (jac["dqdd_dqd"], np.stack(by_qd, axis=2))
     errs = {k: rel_err(a, b, scale=scales.get(k, 0.0)) for k, (a, b) in got.items()}
-    where = _worst(errs)
+    where = worst_key(errs)
     return row(f"(b) Lagrange from the energy (finite differences), {samples} states",
                errs[where], TOL_ROUTE, f"worst: {where}; vs compiled M, g, h, tau"
                + ("" if robot.is_closed_chain else ", forward dynamics"))
