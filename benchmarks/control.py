@@ -1,7 +1,7 @@
 """Section 5: closed-loop control, the compiled loop against a Python controller.
 
 Measured: wall time of a whole tracking run (5 s, states at 501 evenly spaced times) of
-``planar_sym.control.simulate_controlled``: the C Dormand-Prince 5(4) evaluating the controller
+``planar_sym.simulate_controlled`` (``dynamics.engine``): the C Dormand-Prince 5(4) evaluating the controller
 at every right-hand side (closed chains re-projected onto the loops every 0.1 s), rtol 1e-10,
 atol 1e-12. Two laws at a 5 Hz bandwidth w: computed torque (Kp = w^2, Kd = 2 w) and PD +
 gravity compensation (the same gains times each actuated joint's effective inertia at the
@@ -12,7 +12,7 @@ start). Two problems:
   move, then held to 5 s.
 
 The reference is the study's joint motion on the actuated joints as quintic Hermite
-polynomials (``control.signals.from_motion``), built once before timing and given to every
+polynomials (``motion.signals.from_motion``), built once before timing and given to every
 method. Baselines, each timed in the same interleaved rounds as the compiled loop:
 
 * (a) SciPy ``solve_ivp(method="DOP853")``, same rtol and atol, on a right-hand side that
@@ -118,8 +118,8 @@ class Problem:
 
 
 def load_problem(label: str, study: str, t_end: float) -> Problem:
-    from planar_sym.control.events import actuator_events
-    from planar_sym.control.signals import from_motion
+    from planar_sym.dynamics.events import actuator_events
+    from planar_sym.motion.signals import from_motion
     from planar_sym.study.motion import joint_motion
     from planar_sym.study.run import load_study, robot_of
 
@@ -242,10 +242,8 @@ class PyController:
 
 def _segment_s() -> float:
     """How often the compiled loop re-projects a closed chain (s)."""
-    try:
-        from planar_sym.control.segments import SEGMENT_S
-    except ImportError:  # before the segment driver had a module of its own
-        from planar_sym.control.loop import SEGMENT_S
+    from planar_sym.dynamics.segments import SEGMENT_S
+
     return SEGMENT_S
 
 

@@ -61,7 +61,7 @@ _LAZY = {"simulate": ("dynamics.forward", "simulate"),
          "write_result": ("outputs.results", "write"),
          "from_actuated": ("motion.closure", "from_actuated"),
          "validate": ("analysis.validate", "run_all"),
-         "simulate_controlled": ("control.loop", "simulate_controlled"),
+         "simulate_controlled": ("dynamics.engine", "simulate_controlled"),
          "controller": ("control.laws", "controller"),
          "sweep": ("analysis.sweep", "sweep"), "atlas": ("analysis.atlas", "atlas"),
          "show": ("outputs.notebook", "show"), "export": ("outputs.export", "write")}

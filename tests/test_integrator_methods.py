@@ -11,8 +11,9 @@ References, independent of the method under test:
   (the matrix itself, compared entry by entry to 1e-6 of its largest entry: a wrong Jacobian
   only slows Radau, BDF and LSODA down, their results can still agree).
 
-cvodes and idas are not ``simulate``'s: it refuses them, pointing to
-``simulate_controlled(robot, controller("none"), ...)``, and they are checked there.
+cvodes and idas (SUNDIALS) run in the simulation engine; ``simulate`` takes them like the
+others, and a table of torques through ``simulate`` (evaluated in C by the engine) agrees with
+the same torques given as a function of time to SciPy.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from planar_sym.dynamics.integrate import SCIPY_METHODS
 from planar_sym.errors import InputError
 
 #: the methods the module docstring of planar_sym/dynamics/forward.py lists
-METHODS = ("dopri5", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+METHODS = ("dopri5", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA", "cvodes", "idas")
 IMPLICIT = ("Radau", "BDF", "LSODA")  # those given the compiled Jacobian
 #: free swings: released at q1 = -60 deg (seed S1), the 3-DOF arm with its elbow bent and a
 #: push on the wrist
@@ -49,10 +50,10 @@ def swing(request):
 
 
 def test_the_listed_methods_are_the_accepted_ones():
-    assert set(SCIPY_METHODS) == set(METHODS[1:])
-    with pytest.raises(InputError, match=r"method 'cvodes' \(SUNDIALS\) runs in the compiled "
-                                         r"loop: planar_sym.simulate_controlled"):
-        ps.simulate(ps.load("serial_2dof"), [0.0, 0.0], [0.0, 0.0], (0.0, 1.0), method="cvodes")
+    assert set(SCIPY_METHODS) == set(METHODS[1:-2])
+    with pytest.raises(InputError, match=r"unknown method 'rk4'; known: dopri5, cvodes, idas, "
+                                         r"DOP853"):
+        ps.simulate(ps.load("serial_2dof"), [0.0, 0.0], [0.0, 0.0], (0.0, 1.0), method="rk4")
 
 
 def _check_against(ref, q, qd, kin, pot, label):
@@ -77,14 +78,25 @@ def test_every_method_agrees_with_dopri5(swing, method):
                    f"{robot.name} {method}")
 
 
-@pytest.mark.parametrize("method", ["cvodes", "idas"])
-def test_sundials_through_the_controlled_loop(swing, method):
-    robot, q0, qd0, ref = swing
-    run = ps.simulate_controlled(robot, ps.controller("none", width=len(robot.actuated)),
-                                 (0.0, T_END), torque=np.zeros(len(robot.actuated)), q0=q0,
-                                 qd0=qd0, t_eval=T, method=method, rtol=1e-10, atol=1e-12)
-    kin, pot = robot.energy(run.q, run.qd)
-    _check_against(ref, run.q, run.qd, kin, pot, f"{robot.name} {method}")
+@pytest.mark.parametrize("method", ["dopri5", "cvodes", "idas"])
+def test_a_torque_table_in_the_engine_against_scipy(method):
+    """A torque table (a cubic spline through samples of 0.05 sin(3 t), 0.02 cos(2 t) N*m)
+    through ``simulate``: evaluated in C by the engine for dopri5 and SUNDIALS, and as a
+    Python function of time by SciPy's DOP853 at rtol 1e-12 (the reference): 1e-7 rad."""
+    from planar_sym.motion.signals import from_table
+
+    robot = ps.load("serial_2dof")
+    knots = np.linspace(0.0, 1.0, 41)
+    values = np.column_stack([0.05 * np.sin(3 * knots), 0.02 * np.cos(2 * knots)])
+    table = from_table(knots, values, "cubic")
+    q0, qd0, t = np.array([-1.0, 0.5]), np.zeros(2), np.linspace(0.0, 1.0, 21)
+    run = ps.simulate(robot, q0, qd0, (0.0, 1.0), t_eval=t, torque=table, method=method,
+                      rtol=1e-11, atol=1e-12)
+    ref = ps.simulate(robot, q0, qd0, (0.0, 1.0), t_eval=t, torque=lambda tt: table(tt)[0],
+                      method="DOP853", rtol=1e-12, atol=1e-13)
+    assert run.method == method
+    assert np.max(np.abs(run.q - ref.q)) < 1e-7 * np.max(np.abs(ref.q))
+    assert np.max(np.abs(run.tau - np.vstack([table(tt)[0] for tt in t]))) < 1e-12
 
 
 def fd_jacobian(robot, x, tau, h=1e-6):

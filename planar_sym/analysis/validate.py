@@ -226,7 +226,7 @@ def free_motion(robot: Robot, seconds: float = 1.0):
     t = np.linspace(0.0, seconds, 201)
     if robot.drive_train.has_friction:
         from ..control.laws import controller
-        from ..control.loop import simulate_controlled
+        from ..dynamics.engine import simulate_controlled
 
         def run(qd0):
             return simulate_controlled(robot, controller("none"), (0.0, seconds),

@@ -1,10 +1,11 @@
-"""Robots under control, in the compiled loop: control laws and gains (``laws``), signals of
-time evaluated in C (``signals``), events (``events``) and the simulation (``loop``)."""
+"""Robots under control: the laws and their gains (``laws``). The simulation engine that runs
+them is ``planar_sym.dynamics.engine`` (with the events and SUNDIALS beside it), the signals of
+time it evaluates ``planar_sym.motion.signals``; their public names are re-exported here."""
 
-from .events import Event
+from ..dynamics.engine import ControlledRun, simulate_controlled
+from ..dynamics.events import Event
+from ..motion.signals import INTERPOLATIONS, Signal, from_motion, from_table
 from .laws import KINDS, Controller, controller
-from .loop import ControlledRun, simulate_controlled
-from .signals import INTERPOLATIONS, Signal, from_motion, from_table
 
 __all__ = ["INTERPOLATIONS", "KINDS", "ControlledRun", "Controller", "Event", "Signal",
            "controller", "from_motion", "from_table", "simulate_controlled"]

@@ -7,7 +7,10 @@ Methods:
   requested output times. For zero or constant torques.
 * any SciPy ``solve_ivp`` method (``"DOP853"``, ``"RK45"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``)
   on the compiled ``qdd = M^-1 (tau - h)``; Radau/BDF/LSODA get the compiled Jacobian. A torque
-  that is a function of time always goes this way (DOP853 unless told otherwise).
+  that is a function of time always goes this way (DOP853 unless told otherwise);
+* ``"cvodes"``, ``"idas"``: SUNDIALS through CasADi, in the simulation engine
+  (``dynamics.engine``, the loop controlled runs use) under the open-loop law "none": zero or
+  constant torques, or a table of them (``motion.signals.from_table``).
 
 Closed chains are in ``planar_sym.dynamics.forward_closed``.
 """
@@ -20,6 +23,7 @@ from scipy.integrate import solve_ivp
 from ..errors import InputError, SimulationError
 from ..model.library import SingleCall
 from ..model.robot import Robot, as_vector
+from ..motion.signals import Signal
 from .integrate import (
     SCIPY_METHODS,
     Simulation,
@@ -52,15 +56,17 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         Initial coordinates (rad; m at a slider) and rates (rad/s; m/s), every coordinate.
     t_span : (float, float)
         Start and end time (s).
-    torque : None, array_like of shape (actuated,), or callable
-        Zero, constant torques (N*m; N at a slider), or ``f(t)`` returning them (t in s).
+    torque : None, array_like of shape (actuated,), Signal, or callable
+        Zero, constant torques (N*m; N at a slider), a table of them over time
+        (``motion.signals.from_table``: evaluated in C with dopri5 and SUNDIALS), or ``f(t)``
+        returning them (t in s; SciPy methods only).
     t_eval : array_like, shape (N,), optional
         Output times (s), increasing, inside ``t_span``.
     rtol, atol : float
         Relative and absolute tolerances of the integrator (atol in the state's SI units).
     method : str
-        ``"dopri5"`` (C, default), or a SciPy ``solve_ivp`` method (``"DOP853"``,
-        ``"Radau"``, ...).
+        ``"dopri5"`` (C, default), ``"cvodes"`` or ``"idas"`` (SUNDIALS in the engine), or a
+        SciPy ``solve_ivp`` method (``"DOP853"``, ``"Radau"``, ...).
     max_steps : int
         Step limit of the C integrator.
     project : bool
@@ -81,6 +87,15 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     if not isinstance(robot, Robot):
         raise InputError(f"simulate needs a Robot (planar_sym.load), got {type(robot).__name__}")
     check_tolerances(rtol, atol)
+    table = isinstance(torque, Signal)  # evaluated in C by the engine; in Python by SciPy
+    if method in ("cvodes", "idas") or (method == "dopri5" and table):
+        return _in_the_engine(robot, q0, qd0, t_span, torque, t_eval, rtol, atol, method,
+                              project)
+    if table:
+        signal = torque
+
+        def torque(tt: float) -> np.ndarray:  # SciPy calls it per step, in Python
+            return signal(tt)[0]
     if robot.is_closed_chain:
         from .forward_closed import simulate_closed
 
@@ -98,13 +113,9 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
                           rtol, atol, n_rhs, **labels(robot))
     method = "DOP853" if method == "dopri5" else method
-    if method in ("cvodes", "idas"):
-        raise InputError(f"method {method!r} (SUNDIALS) runs in the compiled loop: "
-                         "planar_sym.simulate_controlled(robot, planar_sym.controller(\"none\", "
-                         "width=len(robot.actuated)), t_span, torque=..., q0=..., qd0=..., "
-                         f"method={method!r})")
     if method not in SCIPY_METHODS:
-        raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
+        raise InputError(f"unknown method {method!r}; known: dopri5, cvodes, idas, "
+                         f"{', '.join(SCIPY_METHODS)}")
     fd = SingleCall(robot.library.functions["forward_dynamics"], robot.p)
     count, last_t = [0], [t[0]]
 
@@ -149,3 +160,26 @@ def _on_actuated(tau_of, robot: Robot):
         full[act] = tau_of(t)
         return full.copy()
     return expanded
+
+
+def _in_the_engine(robot: Robot, q0, qd0, t_span, torque, t_eval, rtol: float, atol: float,
+                   method: str, project: bool) -> Simulation:
+    """SUNDIALS in the simulation engine under the open-loop law "none", as a Simulation."""
+    from .engine import simulate_controlled
+    from .laws import Controller
+
+    n = robot.n
+    q0, qd0 = as_vector("q0", q0, n), as_vector("qd0", qd0, n)
+    correction = 0.0
+    if robot.is_closed_chain and project:
+        from .forward_closed import initial_state
+
+        q_on, qd0 = initial_state(robot, q0, qd0, project_state=True)
+        correction, q0 = float(np.max(np.abs(q_on - q0))), q_on
+    if torque is not None and not callable(torque) and not isinstance(torque, Signal):
+        torque = as_vector("torque", torque, len(robot.actuated))  # one per actuated joint
+    run = simulate_controlled(robot, Controller("none"), t_span, q0=q0, qd0=qd0, torque=torque,
+                              t_eval=t_eval, method=method, rtol=rtol, atol=atol)
+    return Simulation(run.t_s, run.q, run.qd, run.tau, run.kinetic_j, run.potential_j,
+                      run.method, rtol, atol, run.n_rhs, run.constraint_drift_m, correction,
+                      **labels(robot))

@@ -16,12 +16,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..control import controller as make_controller
-from ..control.events import coordinate_index
-from ..control.loop import ControlledRun, simulate_controlled
-from ..control.signals import Signal, from_motion, from_table
+from ..dynamics.engine import ControlledRun, simulate_controlled
+from ..dynamics.events import coordinate_index
 from ..errors import InputError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
+from ..motion.signals import Signal, from_motion, from_table
 from . import spec as specs
 from .columns import coordinates_note, task_columns
 from .motion import check_width, coordinate_scale, joint_motion

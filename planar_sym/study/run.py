@@ -179,34 +179,19 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
 
 
 def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
-    """A forward run: the C integrator with constant torques; the compiled loop (controller
-    "none") for a table or a profile, and for SUNDIALS; a SciPy method with the table
-    evaluated in Python. ``tau`` comes back on the actuated joints."""
-    from ..control import controller, simulate_controlled
+    """A forward run through ``dynamics.forward.simulate``, the one entry point (constant
+    torques in the C integrator, a table or a profile and SUNDIALS in the engine, SciPy with
+    the table evaluated in Python). ``tau`` comes back on the actuated joints."""
     from ..dynamics.forward import simulate
-    from ..dynamics.integrate import Simulation, labels
     from .control_run import torque_input
 
     s = st.simulation
-    act = list(robot.actuated)
     u = torque_input(st, robot, s.torque, s.duration_s, "simulation.torque")
-    compiled_input = u is not None and not isinstance(u, np.ndarray)
-    if s.method in ("cvodes", "idas") or (s.method == "dopri5" and compiled_input):
-        run = simulate_controlled(robot, controller("none", width=len(act)),
-                                  (0.0, s.duration_s),
-                                  torque=np.zeros(len(act)) if u is None else u, q0=q0,
-                                  qd0=qd0, t_eval=t, method=s.method, rtol=s.rtol, atol=s.atol)
-        return Simulation(t, run.q, run.qd, run.tau, run.kinetic_j, run.potential_j, s.method,
-                          s.rtol, s.atol, run.n_rhs, **labels(robot))
-    if compiled_input:
-        sig = u
-
-        def u(tt: float) -> np.ndarray:  # SciPy calls it per step, in Python
-            return sig(tt)[0]
     sim = simulate(robot, q0, qd0, (0.0, s.duration_s), t_eval=t, torque=u,
                    method=s.method, rtol=s.rtol, atol=s.atol)
-    tau = sim.tau[:, act] if sim.tau.shape[1] == robot.n else sim.tau
-    return replace(sim, tau=tau)  # on the actuated joints, as the compiled route gives them
+    act = list(robot.actuated)
+    tau = sim.tau[:, act] if sim.tau.shape[1] == robot.n and len(act) < robot.n else sim.tau
+    return replace(sim, tau=tau)  # on the actuated joints, as the engine gives them
 
 
 def _input_note(tq) -> str:

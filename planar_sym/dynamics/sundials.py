@@ -17,9 +17,9 @@ import numpy as np
 
 from ..errors import SimulationError
 from ..model.robot import Robot
+from ..motion.signals import Signal
 from .laws import Controller
 from .segments import friction, run_segments
-from .signals import Signal
 
 
 def _externals(robot: Robot) -> dict:

@@ -18,10 +18,10 @@ import numpy as np
 from ..errors import InputError, SimulationError
 from ..model.robot import Robot, as_vector
 from ..motion.profiles import JointTrajectory
+from ..motion.signals import Signal, from_motion
 from .events import Event, EventSpec, actuator_events, joint_limit_events
 from .laws import Controller
 from .segments import friction, run_segments
-from .signals import Signal, from_motion
 
 _P = ctypes.c_void_p
 MAX_EVENTS_LOGGED = 256
@@ -197,7 +197,7 @@ class _Setup:
 @functools.cache
 def _functions():
     """The C entry points, their argument types declared once per process."""
-    from ..dynamics.integrate import helper
+    from .integrate import helper
 
     lib = helper()
     run = lib.planar_sym_dopri5_ctl
@@ -286,8 +286,8 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     ControlledRun
         Raises InputError for bad input, including an event that fires at the start.
     """
-    from ..dynamics.forward_closed import initial_state
-    from ..dynamics.integrate import check_tolerances, time_grid
+    from .forward_closed import initial_state
+    from .integrate import check_tolerances, time_grid
 
     if not isinstance(robot, Robot):
         raise InputError(f"simulate_controlled needs a Robot (planar_sym.load), got "
@@ -427,13 +427,13 @@ def _torque_input(torque, na: int, t0: float, t1: float):
         return torque
     if callable(torque):
         raise InputError("a torque function of time runs in Python; in the compiled loop give "
-                         "a table (planar_sym.control.signals.from_table) or a constant")
+                         "a table (planar_sym.motion.signals.from_table) or a constant")
     return as_vector("torque", torque, na)
 
 
 def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps):
     """The compiled loop: one C call (a tree) or one per segment (a closed chain)."""
-    from ..dynamics.integrate import _DOPRI5_ERRORS
+    from .integrate import _DOPRI5_ERRORS
 
     run, _ = _functions()
     n, m = plant.n, plant.n_constraints

@@ -24,7 +24,7 @@ def run_segments(plant, setup, y0, t, segment, count):
     once for a tree; for a closed chain every SEGMENT_S, re-projected onto the loops, with
     the loops' failure (a singular constraint matrix, drift beyond DRIFT_LIMIT_M) an event.
     Returns states, their times, RHS evaluations, the largest |Phi| and the loop event."""
-    from ..dynamics.forward_closed import project
+    from .forward_closed import project
 
     n, m = plant.n, plant.n_constraints
     rows, times, drift = [y0], [t[0]], 0.0
