@@ -1921,7 +1921,7 @@ def control_hold_moving(ctx):
 @bad(CONTROL, "a Python function as the input torque of the compiled loop", InputError,
      r"a torque function of time runs in Python; in the compiled loop give a table",
      "a torque function of time runs in Python; in the compiled loop give a table "
-     "(planar_sym.control.signals.from_table) or a constant")
+     "(planar_sym.motion.signals.from_table) or a constant")
 def control_python_torque(ctx):
     from planar_sym.control import controller, simulate_controlled
 
@@ -2149,6 +2149,34 @@ def sweep_worker_dies(ctx):
 def sweep_cli_range(ctx):
     _cli(ctx, "sweep", "serial_2dof_cartesian_move", "--vary", "m_link2=0.05:0.1", "--out",
          str(ctx.tmp))
+
+
+@bad(DESIGN, "a sweep of the plant only (`on=\"plant\"`) of a study that has no plant (kind = "
+             "\"inverse\")", InputError,
+     r"on = 'plant' is for control studies \(a controller's model and a plant\): "
+     r"serial_2dof_cartesian_move is a study of kind = \"inverse\": one robot, no plant",
+     "on = 'plant' is for control studies (a controller's model and a plant): "
+     "serial_2dof_cartesian_move is a study of kind = \"inverse\": one robot, no plant; leave "
+     "on = 'both'", see="tests/test_sweep_drive_plant.py::test_on_is_refused_where_there_is_no_plant")
+def sweep_on_without_plant(ctx):
+    ps.sweep("serial_2dof_cartesian_move", {"m_link2": (0.05, 0.1, 3)}, on="plant")
+
+
+@bad(DESIGN, "a sweep's parameter set misspelt: `on=\"plants\"`", InputError,
+     r"on must be 'both', 'model' or 'plant' \(got 'plants'\)",
+     "on must be 'both', 'model' or 'plant' (got 'plants')",
+     see="tests/test_sweep_drive_plant.py::test_on_is_refused_where_there_is_no_plant")
+def sweep_on_unknown(ctx):
+    ps.sweep("serial_2dof_cartesian_track", {"m_link2": (0.05, 0.1, 3)}, on="plants")
+
+
+@bad(DESIGN, "`planar-sym sweep serial_2dof_cartesian_track --vary m_link2=0.06,0.08 --on "
+             "plants`", CommandFailed, r"--on 'plants': choose both, model or plant",
+     "error: --on 'plants': choose both, model or plant",
+     see="tests/test_sweep_drive_plant.py::test_on_is_refused_where_there_is_no_plant")
+def sweep_cli_on(ctx):
+    _cli(ctx, "sweep", "serial_2dof_cartesian_track", "--vary", "m_link2=0.06,0.08", "--on",
+         "plants", "--out", str(ctx.tmp))
 
 
 # -- the test ---------------------------------------------------------------------------------------

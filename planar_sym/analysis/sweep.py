@@ -13,6 +13,19 @@ Parameters go to the compiled code per call, never through a new ``Robot`` per d
 * **simulations, controlled runs and atlases**: the study (or atlas) runs per design on that
   worker robot.
 
+A control study has two parameter sets: the controller's model (the robot with the study's
+``[parameters]``) and the plant (the model with ``[control.plant]`` on top). ``on`` says which
+the designs change: both (default), the model only, or the plant only; the table has the
+plant's value of every varied parameter beside the model's (``plant_<name>_<unit>``).
+
+For a robot with actuator models (``[joints.actuator]``), an inverse-dynamics sweep also has the
+motor side per actuator, at each design's own gear ratio N (a swept ``gear_<joint>`` included),
+as ``study.sizing.size`` computes it for one run: peak and RMS motor torque (tau / N; the RMS by
+the trapezoidal rule over time), peak motor speed (N max|qd|, rpm) and peak power max|tau qd|
+(W). These need every sample: the C loop's per-design min/max/mean square cannot give them, so
+the shared-motion route makes a second pass over the designs in chunks of ``MOTOR_CHUNK``, each
+chunk's torques (designs x samples) reduced in numpy.
+
 Designs are split into batches that run on local threads by default (the C loops release the
 GIL), or on any ``concurrent.futures``-style executor: a ``ProcessPoolExecutor``, or a
 ``dask.distributed.Client`` for a cluster. A robot travels to another process by reference
@@ -36,11 +49,17 @@ from ..errors import InputError, PlanarSymError
 from ..model.robot import COND_LIMIT, Robot
 from ..study import spec as specs
 from ..study.result import coordinate_column
-from .designs import DesignSpace, design_space
+from ..study.sizing import RPM
+from .designs import DesignSpace, design_space, unit_suffix
 
 #: designs per batch where the motion is shared (one C loop each): large enough that the
 #: Python around a batch is a few per cent, small enough to spread over cores
 FAST_BATCH = 4096
+#: designs per numpy pass of the motor-side figures (their torques at every sample, designs x
+#: samples x coordinates): a few hundred keep a pass in cache
+MOTOR_CHUNK = 256
+#: which parameter set of a control study the designs change
+ON = ("both", "model", "plant")
 
 
 @dataclass
@@ -53,7 +72,10 @@ class SweepResult:
     Values are SI, the unit in each column's name (``m_link2_kg``, ``a2_m``, ``peak_tau1_n_m`` in
     N*m, ``max_abs_e1_rad`` in rad, ``final_work_j`` in J); ``D`` is the
     number of designs. ``study`` names the study swept; ``note`` sums the run up (designs,
-    sampling, route, failures).
+    sampling, route, what was varied on which parameter set, failures). For a control study the
+    varied columns are the controller's model's values (``m_link2_kg``) then the plant's
+    (``plant_m_link2_kg``), and ``on`` says which of the two the designs changed ("both",
+    "model" or "plant"; "both" for any other study, which has one robot).
     """
 
     study: str
@@ -63,6 +85,7 @@ class SweepResult:
     failed: dict[int, str] = field(default_factory=dict)
     route: str = ""
     note: str = ""
+    on: str = "both"
 
     def __len__(self) -> int:
         return len(next(iter(self.columns.values())))
@@ -95,7 +118,8 @@ class SweepResult:
 
 def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, seed: int = 0,
           executor: Executor | None = None, workers: int | None = None,
-          batch: int | None = None, atlas: dict | None = None) -> SweepResult:
+          batch: int | None = None, atlas: dict | None = None,
+          on: str = "both") -> SweepResult:
     """Run ``study`` once per design and collect its figures.
 
     Parameters
@@ -116,6 +140,11 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
         Run ``analysis.atlas.atlas(robot, **atlas)`` per design instead of the study, and
         collect its summary (workspace area, worst dexterity, ...). ``study`` then only names
         the robot and its parameters.
+    on : {"both", "model", "plant"}
+        For a control study: the designs change the controller's model and the plant
+        (default; a varied parameter that ``[control.plant]`` sets takes the design's value
+        there too), the model only (the plant keeps the study's plant), or the plant only (the
+        controller keeps the study's model). Any other study has one robot: only "both".
 
     Returns
     -------
@@ -124,13 +153,23 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
         per actuator (``_n`` for a force), for a closed chain ``peak_f_<cut>_n`` (the largest
         cut-joint force) and ``max_cond_phi_p`` (its worst passive-constraint conditioning); for
         simulations and control the same torque figures where there are torques, the largest
-        tracking error and the energy figures.
+        tracking error and the energy figures. With actuator models (``[joints.actuator]``),
+        inverse-dynamics and control sweeps add per actuator ``peak_motor_tau<k>_n_m``,
+        ``rms_motor_tau<k>_n_m``, ``peak_motor_speed<k>_rpm`` and ``peak_power<k>_w``.
     """
     from ..study.run import load_study, robot_of
 
     st = load_study(study)
+    if not isinstance(on, str) or on not in ON:
+        raise InputError(f"on must be 'both', 'model' or 'plant' (got {on!r})")
     robot = robot_of(st)
-    space = design_space(robot, vary, sample=sample, count=count, seed=seed)
+    if on != "both" and (st.kind != "control" or atlas is not None):
+        what = ("an atlas sweep runs on one robot" if atlas is not None else
+                f"{st.name} is a study of kind = \"{st.kind}\": one robot, no plant")
+        raise InputError(f"on = {on!r} is for control studies (a controller's model and a "
+                         f"plant): {what}; leave on = 'both'")
+    space, plant_P = _designs(st, robot, vary, on, sample=sample, count=count, seed=seed,
+                              control=atlas is None and st.kind == "control")
     if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
         raise InputError(f"workers must be an integer >= 1 (got {workers!r})")
     if batch is not None and (not isinstance(batch, (int, np.integer)) or batch < 1):
@@ -140,7 +179,8 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
     # at least one batch per worker (four where each design is slow), at most FAST_BATCH
     per = 1 if route == "shared motion" else 4
     size = batch or max(1, min(FAST_BATCH, math.ceil(len(space) / (per * n_workers))))
-    jobs = [_Job(robot, st, space.P[k:k + size], k, route, shared, atlas)
+    jobs = [_Job(robot, st, space.P[k:k + size], k, route, shared, atlas,
+                 None if plant_P is None else plant_P[k:k + size])
             for k in range(0, len(space), size)]
     own = executor is None
     pool = ThreadPoolExecutor(n_workers) if own else executor
@@ -149,7 +189,72 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
     finally:
         if own:
             pool.shutdown()
-    return _table(st, space, route, jobs, outs)
+    return _table(st, robot, space, plant_P, on, route, jobs, outs)
+
+
+# -- the two parameter sets of a control study -------------------------------------------------
+def _designs(st: specs.Study, robot: Robot, vary: dict, on: str, *, sample: str,
+             count: int | None, seed: int, control: bool) -> tuple[DesignSpace, np.ndarray | None]:
+    """The designs' model parameter vectors (``space.P``: what the worker robot is set to) and,
+    for a control study, the plant's (D, n_p). Each set a design changes is checked as a
+    design of its own base: the study's robot, or the study's plant (``[control.plant]``)."""
+    from ..study.parameters import with_overrides
+
+    if not control:
+        return design_space(robot, vary, sample=sample, count=count, seed=seed), None
+    plant = with_overrides(robot, st.control.plant, f"{st.path or st.name}: control.plant")
+    if on == "plant":
+        try:
+            space = design_space(plant, vary, sample=sample, count=count, seed=seed)
+        except InputError as exc:
+            raise InputError(f"the plant: {exc}") from None
+        plant_P = space.P
+        model = np.tile(robot.p, (len(space), 1))
+        values = model[:, [_index(robot, n) for n in space.names]]
+        return DesignSpace(space.names, space.units, values, model, space.sample), plant_P
+    space = design_space(robot, vary, sample=sample, count=count, seed=seed)
+    if on == "model":
+        return space, np.tile(plant.p, (len(space), 1))
+    # both: the plant's other [control.plant] values stay; the varied ones are the design's
+    plant_P = np.tile(plant.p, (len(space), 1))
+    for k, name in enumerate(space.names):
+        plant_P[:, _index(robot, name)] = space.values[:, k]
+    if not np.array_equal(plant_P, space.P):  # the plant is a design of its own base too
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a unit slip was said once, for the model
+            try:
+                design_space(plant, vary, sample=sample, count=count, seed=seed)
+            except InputError as exc:
+                raise InputError(f"the plant: {exc}") from None
+    return space, plant_P
+
+
+def _index(robot: Robot, name: str) -> int:
+    return [par.name for par in robot.parameter_list].index(name)
+
+
+def _plant_overrides(robot: Robot, p: np.ndarray, plant: np.ndarray) -> dict:
+    """A design's ``[control.plant]``: every parameter where the plant differs from the model,
+    in SI with its SI unit (so that ``to_si`` multiplies by exactly 1)."""
+    return {par.name: (float(plant[k]), par.unit) for k, par in enumerate(robot.parameter_list)
+            if plant[k] != p[k]}
+
+
+def _on_note(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarray,
+             on: str) -> str:
+    """What the designs changed on which parameter set, and what the other one kept."""
+    names = ", ".join(space.names)
+    if on == "both":
+        replaced = [n for n in space.names if n in st.control.plant]
+        extra = (f" ([control.plant]'s {', '.join(replaced)} replaced by the design's)"
+                 if replaced else "")
+        return f"{names} varied on the controller's model and the plant{extra}"
+    units = {par.name: par.unit for par in robot.parameter_list}
+    kept = plant_P[0] if on == "model" else space.P[0]
+    held = ", ".join(f"{n} = {kept[_index(robot, n)]:.6g} {units[n]}" for n in space.names)
+    if on == "model":
+        return f"{names} varied on the controller's model only: the plant keeps {held}"
+    return f"{names} varied on the plant only: the controller's model keeps {held}"
 
 
 # -- routes ------------------------------------------------------------------------------------
@@ -202,6 +307,7 @@ class _Job:
     route: str
     shared: tuple
     atlas: dict | None
+    plant: np.ndarray | None = None  # a control study's plant parameter vectors (D, n_p)
 
 
 @dataclass
@@ -268,13 +374,90 @@ def _singular(figs: dict[str, np.ndarray], start: int) -> dict[int, str]:
             f"Phi_p has condition number {cond[k]:.3g} > {COND_LIMIT:g}" for k in np.flatnonzero(bad)}
 
 
+# -- the motor side ------------------------------------------------------------------------------
+def has_drives(robot: Robot) -> bool:
+    """Whether the description models an actuator (``[joints.actuator]``: a gear, a rotor or
+    friction). Without one every gear ratio is 1 and the motor figures would repeat the joint's."""
+    return any(d.modelled for d in robot.drive_train.drives)
+
+
+def gear_ratios(robot: Robot, P: np.ndarray) -> np.ndarray:
+    """Each design's gear ratio per actuator, shape (D, actuated), dimensionless (motor rad per
+    joint rad, per m at a slider): its ``gear_<joint>`` parameter where the robot has one (what
+    the compiled code and ``DriveTrain.of`` use), else the description's figure (1 without an
+    actuator model). ``P``: the designs' parameter vectors, shape (D, parameters), SI."""
+    names = [par.name for par in robot.parameter_list]
+    out = np.empty((len(P), len(robot.actuated)))
+    for k, drive in enumerate(robot.drive_train.drives):
+        key = f"gear_{drive.joint}"
+        out[:, k] = P[:, names.index(key)] if key in names else drive.gear_ratio
+    return out
+
+
+def motor_columns(i: int) -> tuple[str, str, str, str]:
+    """The motor-side figure columns of coordinate ``i`` (0-based): peak and RMS motor torque
+    (N*m, also behind a slider's screw), peak motor speed (rpm), peak power (W)."""
+    return (f"peak_motor_tau{i + 1}_n_m", f"rms_motor_tau{i + 1}_n_m",
+            f"peak_motor_speed{i + 1}_rpm", f"peak_power{i + 1}_w")
+
+
+def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
+    """w with w @ v**2 = the mean square of v(t) by the trapezoidal rule over t (``sizing``'s
+    RMS); the plain mean over one sample or no time span."""
+    span = t[-1] - t[0] if len(t) > 1 else 0.0
+    if span <= 0:
+        return np.full(len(t), 1.0 / len(t))
+    dt = np.diff(t)
+    w = np.zeros(len(t))
+    w[:-1] += dt / 2
+    w[1:] += dt / 2
+    return w / span
+
+
+def _motor_figures(robot: Robot, fn, P: np.ndarray, motion: tuple, t: np.ndarray,
+                   joint: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Motor-side figures of the designs ``P`` along ``motion`` (q, qd, qdd: (N, n) shared or
+    (D, N, n) per design): the torques again at every sample, ``MOTOR_CHUNK`` designs at a
+    time, for the trapezoidal RMS and the peak power |tau qd| (a per-sample product the C
+    loop's reduction cannot give); the peak motor torque from the joint's peak (``joint``)."""
+    closed = robot.is_closed_chain
+    q, qd, qdd = motion
+    per_design = q.ndim == 3
+    D, act = len(P), list(robot.actuated)
+    ratios = gear_ratios(robot, P)
+    w = _trapezoid_weights(t)
+    ms, power = np.empty((D, len(act))), np.empty((D, len(act)))
+    for s in range(0, D, MOTOR_CHUNK):
+        sl = slice(s, s + MOTOR_CHUNK)
+        args = (q[sl], qd[sl], qdd[sl]) if per_design else (q, qd, qdd)
+        out = fn.designs(P[sl], *args)
+        tau = out[0] if closed else out  # closed: the actuated torques; tree: every coordinate
+        for k, i in enumerate(act):
+            tk = tau[:, :, k if closed else i]  # (d, N), strided: each product below is new
+            p = tk * args[1][..., i]  # the product sizing takes: tau * qd
+            power[sl, k] = np.abs(p, out=p).max(axis=1)
+            ms[sl, k] = np.square(tk) @ w
+    speed = np.abs(qd[..., act]).max(axis=-2)  # (actuated,) shared, (D, actuated) per design
+    figs = {}
+    for k, i in enumerate(act):
+        peak_t, rms_t, peak_w, peak_p = motor_columns(i)
+        peak = joint["peak_" + coordinate_column("tau", i, robot.coordinate_units[i])]
+        figs[peak_t] = peak / ratios[:, k]
+        figs[rms_t] = np.sqrt(ms[:, k]) / ratios[:, k]
+        figs[peak_w] = speed[..., k] * ratios[:, k] * RPM
+        figs[peak_p] = power[:, k]
+    return figs
+
+
 def _shared(job: _Job) -> _Out:
     robot = job.robot
-    q, qd, qdd, _ = job.shared
+    q, qd, qdd, t = job.shared
     closed = robot.is_closed_chain
     fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
     stats = fn.designs(job.P, q, qd, qdd, reduce=True)
     figs = _torque_figures(robot, stats, closed)
+    if has_drives(robot):
+        figs.update(_motor_figures(robot, fn, job.P, (q, qd, qdd), t, figs))
     return _Out(figs, _singular(figs, job.start))
 
 
@@ -284,12 +467,13 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
     from ..study.motion import joint_motion
 
     D, closed = len(job.P), robot.is_closed_chain
-    motions, failed = [], {}
+    motions, failed, t = [], {}, None
     for k, p in enumerate(job.P):
         robot.p[:] = p
         try:
             jt, _ = joint_motion(job.study, robot)
             motions.append((jt.q, jt.qd, jt.qdd))
+            t = jt.t_s  # the study's sample times: every design's
         except PlanarSymError as exc:
             failed[job.start + k] = str(exc)
             motions.append(None)
@@ -300,6 +484,8 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
                       for j in range(3))
         fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
         sub = _torque_figures(robot, fn.designs(job.P[ok], q, qd, qdd, reduce=True), closed)
+        if has_drives(robot):
+            sub.update(_motor_figures(robot, fn, job.P[ok], (q, qd, qdd), t, sub))
         for name, v in sub.items():
             figs[name] = np.full(D, np.nan)
             figs[name][ok] = v
@@ -310,12 +496,18 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
 
 def _per_design(job: _Job, robot: Robot) -> _Out:
     """Simulations, controlled runs, atlases (or the exact path): the whole run per design."""
+    from dataclasses import replace
+
     rows, failed = [], {}
     for k, p in enumerate(job.P):
         robot.p[:] = p
+        st = job.study
+        if job.plant is not None:  # a control study: the design's plant over its model
+            st = replace(st, control=replace(st.control, plant=_plant_overrides(
+                robot, p, job.plant[k])))
         try:
             rows.append(_atlas_figures(robot, job.atlas) if job.route == "atlas"
-                        else run_figures(job.study, robot))
+                        else run_figures(st, robot))
         except PlanarSymError as exc:
             failed[job.start + k] = str(exc)
             rows.append(None)
@@ -326,7 +518,9 @@ def _per_design(job: _Job, robot: Robot) -> _Out:
 
 def run_figures(st: specs.Study, robot: Robot) -> dict[str, float]:
     """One run's figures: peak and RMS of every torque column; for a controlled run the
-    largest tracking error of every coordinate and of the task point, and the work done."""
+    largest tracking error of every coordinate and of the task point, and the work done; with
+    actuator models, the motor side of the run's sizing (``Result.sizing``: the plant's, under
+    control)."""
     from ..study.run import run_on
 
     res = run_on(st, robot)
@@ -343,6 +537,13 @@ def run_figures(st: specs.Study, robot: Robot) -> dict[str, float]:
             figs[f"final_{name}"] = float(v[-1])
         elif name == "energy_j":
             figs["energy_change_j"] = float(v[-1] - v[0])
+    if has_drives(robot):
+        for a in res.sizing:
+            peak_t, rms_t, peak_w, peak_p = motor_columns(a.coordinate)
+            figs[peak_t] = a.peak_motor_torque_n_m
+            figs[rms_t] = a.rms_motor_torque_n_m
+            figs[peak_w] = a.peak_motor_speed_rpm
+            figs[peak_p] = a.peak_power_w
     return figs
 
 
@@ -353,10 +554,13 @@ def _atlas_figures(robot: Robot, options: dict) -> dict[str, float]:
             if isinstance(v, (bool, int, float, np.bool_, np.number))}
 
 
-def _table(st: specs.Study, space: DesignSpace, route: str, jobs: list[_Job],
-           outs: list) -> SweepResult:
+def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarray | None,
+           on: str, route: str, jobs: list[_Job], outs: list) -> SweepResult:
     D = len(space)
     columns = space.columns()
+    if plant_P is not None:  # the plant's value of every varied parameter, beside the model's
+        for name, unit in zip(space.names, space.units):
+            columns[f"plant_{name}_{unit_suffix(unit)}"] = plant_P[:, _index(robot, name)]
     varied = tuple(columns)
     failed: dict[int, str] = {}
     figs: dict[str, np.ndarray] = {}
@@ -376,6 +580,8 @@ def _table(st: specs.Study, space: DesignSpace, route: str, jobs: list[_Job],
             v[k] = np.nan
     columns.update(figs)
     note = f"{D} designs ({space.sample}), {route}"
+    if plant_P is not None:
+        note += "; " + _on_note(st, robot, space, plant_P, on)
     if failed:
         note += f"; {len(failed)} failed"
     if lost:
@@ -384,5 +590,5 @@ def _table(st: specs.Study, space: DesignSpace, route: str, jobs: list[_Job],
                       f"{failed[first]}); the other designs' figures are kept", RuntimeWarning,
                       stacklevel=3)
     return SweepResult(st.name, columns, varied, space.names, dict(sorted(failed.items())),
-                       route, note)
+                       route, note, on)
 

@@ -17,8 +17,9 @@ def register(sub) -> None:
                       "; writes STUDY_sweep.csv and STUDY_sweep.png",
         description="Vary robot parameters (SI: m, kg, kg*m^2; see `planar-sym list` and the "
                     "robot's parameters in the README) and collect each design's figures: peak "
-                    "and RMS torque per actuator, cut-joint forces, conditioning; or, with "
-                    "--atlas, the workspace area and dexterity.")
+                    "and RMS torque per actuator (and, with actuator models, motor torque, "
+                    "speed and power), cut-joint forces, conditioning; or, with --atlas, the "
+                    "workspace area and dexterity.")
     p.add_argument("study", help="built-in study name or study file (.toml)")
     p.add_argument("--vary", action="append", default=[], metavar="NAME=SPEC",
                    help="NAME=LOW:HIGH:COUNT (grid), NAME=V1,V2,... (values), NAME=LOW:HIGH "
@@ -35,6 +36,9 @@ def register(sub) -> None:
                    help="run batches in N local processes instead of threads")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="a dask.distributed scheduler (tcp://host:8786) to run the batches on")
+    p.add_argument("--on", default="both", metavar="SET",
+                   help="for a control study, which parameter set the designs change: both "
+                        "(default: the controller's model and the plant), model or plant")
     p.add_argument("--atlas", action="store_true",
                    help="sweep the robot's atlas (workspace area, dexterity) instead of the study")
     p.add_argument("--atlas-points", type=int, default=60, metavar="N",
@@ -71,7 +75,7 @@ def parse_vary(items: list[str], random: bool) -> dict:
 
 
 def run(args) -> int:
-    from ..analysis.sweep import sweep
+    from ..analysis.sweep import ON, sweep
     from ..outputs.sweep_plots import write_sweep
     from ..study.run import load_study
     from .run import check_out
@@ -81,6 +85,8 @@ def run(args) -> int:
         raise InputError("give --processes or --scheduler, not both")
     if args.atlas_points < 2:
         raise InputError(f"--atlas-points must be >= 2 (got {args.atlas_points})")
+    if args.on not in ON:
+        raise InputError(f"--on {args.on!r}: choose {', '.join(ON[:-1])} or {ON[-1]}")
     st = load_study(args.study)
     if args.parameters:
         return _list_parameters(st)
@@ -92,7 +98,7 @@ def run(args) -> int:
     try:
         result = sweep(st, vary, sample="random" if args.random is not None else "grid",
                        count=args.random, seed=args.seed, executor=executor,
-                       workers=args.workers,
+                       workers=args.workers, on=args.on,
                        atlas={"points": args.atlas_points} if args.atlas else None)
     finally:
         if executor is not None:

@@ -12,7 +12,7 @@ from .plots import new_figure, tight
 
 #: column suffix -> unit as a label shows it
 _UNITS = {"n_m": "N*m", "n": "N", "kg": "kg", "kg_m2": "kg*m^2", "m": "m", "m_s2": "m/s^2",
-          "j": "J", "mm": "mm", "m2": "m^2", "rad": "rad"}
+          "j": "J", "mm": "mm", "m2": "m^2", "rad": "rad", "rpm": "rpm", "w": "W"}
 
 
 def label(column: str) -> str:
@@ -25,9 +25,10 @@ def label(column: str) -> str:
 
 def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
     """Figures (default: the peak torques, or every figure if there are none) against the
-    varied parameter ``x`` (default the first); with a second varied parameter on a grid, one
-    line per its value (at most 8, else points)."""
-    x = x or result.varied[0]
+    varied parameter ``x`` (default the first that changes: a control sweep on the plant only
+    holds the model's column); with a second varied parameter on a grid, one line per its
+    value (at most 8, else points). A column that holds one value is no dimension."""
+    x = x or next((v for v in result.varied if _changes(result.columns[v])), result.varied[0])
     if x not in result.columns:
         raise InputError(f"no column {x!r} in the sweep (columns: {', '.join(result.columns)})")
     figs = list(figures or [f for f in result.figures if f.startswith("peak_tau")]
@@ -38,7 +39,8 @@ def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
                          f"{', '.join(result.figures)})")
     xs = result.columns[x]
     # a parameter tied to x (the same values) is not a second dimension
-    others = [v for v in result.varied if v != x and not np.array_equal(result.columns[v], xs)]
+    others = [v for v in result.varied if v != x and not np.array_equal(result.columns[v], xs)
+              and _changes(result.columns[v])]
     group = others[0] if others else None
     levels = np.unique(result.columns[group]) if group else np.array([np.nan])
     lines = group is None or len(levels) <= 8
@@ -64,6 +66,10 @@ def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
     axes[0].set_title(f"sweep of {result.study}: {len(result)} designs{failed}", fontsize=9)
     tight(fig)
     return fig
+
+
+def _changes(values: np.ndarray) -> bool:
+    return len(values) > 0 and bool(np.any(values != values[0]))
 
 
 def write_sweep(result: SweepResult, csv: Path | None, png: Path | None, x: str | None = None,
