@@ -71,7 +71,11 @@ def _prepare(work: Path, target: str, tests: list[str]) -> None:
         f"pytest_add_cli_args_test_selection = {tests!r}",
         # -x: a mutant is killed by its first failing test; no cache writes into the copy
         'pytest_add_cli_args = ["-x", "-q", "-p", "no:cacheprovider", "-m", "not slow"]',
-        "timeout_multiplier = 5.0", ""]).replace("'", '"')
+        "timeout_multiplier = 5.0",
+        # each mutant forked from a server that has only collected the tests: forked from the
+        # process that ran them (mutmut's default), a module-level cache (the joint loads'
+        # structure, the compiled libraries) would hold the clean run's values and hide mutants
+        'process_isolation = "forkserver"', 'forkserver_warmup = "collect"', ""]).replace("'", '"')
     (work / "pyproject.toml").write_text(config)
 
 
