@@ -115,14 +115,39 @@ def run_target(target: str, tests: list[str], jobs: int) -> Outcome:
     seconds = time.perf_counter() - t0
     statuses = _statuses(work)
     equivalents = load_equivalents()
+    names = [n for n, status in sorted(statuses.items()) if status in ("survived", "no tests")]
     survivors = []
-    for name, status in sorted(statuses.items()):
-        if status in ("survived", "no tests"):
-            mutant: Mutant = parse_show(name, status, _mutmut(work, "show", name))
-            mutant.reason = equivalents.get(mutant.key())
-            survivors.append(mutant)
+    for name, shown in _diffs(work, names).items():
+        mutant: Mutant = parse_show(name, statuses[name], shown)
+        mutant.reason = equivalents.get(mutant.key())
+        survivors.append(mutant)
     return Outcome(target=target, tests=tests, statuses=statuses, survivors=survivors,
                    seconds=seconds, commit=_commit())
+
+
+def _diffs(work: Path, names: list[str]) -> dict[str, str]:
+    """``mutmut show`` of each mutant, in this process with mutmut's own line index of the
+    mutated files (one ``mutmut show`` process per mutant took minutes on a folder)."""
+    try:
+        from difflib import unified_diff
+
+        import libcst as cst
+        from mutmut.mutation.diff_apply import read_functions_from_index
+    except ImportError:  # another mutmut than the pinned 3.x: its command line
+        return {name: _mutmut(work, "show", name) for name in names}
+    out = {}
+    for name in names:
+        module = name.split(".x", 1)[0]
+        base = work / "mutants" / Path(*module.split("."))
+        path = base.with_suffix(".py") if base.with_suffix(".py").is_file() else \
+            base / "__init__.py"
+        funcs = read_functions_from_index(name, path)
+        if funcs is None:  # no usable index: mutmut parses the file
+            out[name] = _mutmut(work, "show", name)
+            continue
+        orig, mutant = (cst.Module([f]).code.strip() for f in funcs)
+        out[name] = "\n".join(unified_diff(orig.split("\n"), mutant.split("\n"), lineterm=""))
+    return out
 
 
 def _commit() -> str:
