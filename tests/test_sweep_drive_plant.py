@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import planar_sym as ps
-from planar_sym.analysis import sweep as sweep_module
+from planar_sym.analysis import sweep_motor
 from planar_sym.analysis.sweep import sweep
 from planar_sym.cli import main
 from planar_sym.errors import InputError
@@ -248,7 +248,7 @@ def test_motor_figures_equal_the_sizing_of_each_designs_run(kind, vary, route, m
     that design's parameters (its own gear ratios), to 1e-12; batches of 3 designs in chunks
     of 2, so that the numpy pass crosses chunk boundaries and a worker robot holds several
     designs' parameters in turn."""
-    monkeypatch.setattr(sweep_module, "MOTOR_CHUNK", 2)
+    monkeypatch.setattr(sweep_motor, "MOTOR_CHUNK", 2)
     path = {"move": move, "track": track, "rpr": rpr}[kind]
     res = sweep(path, vary, workers=1, batch=3)
     assert res.route == route and not res.failed

@@ -46,20 +46,16 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, PlanarSymError
-from ..model.robot import COND_LIMIT, Robot
+from ..model.robot import Robot
 from ..study import spec as specs
-from ..study.result import coordinate_column
-from ..study.sizing import RPM
-from .designs import DesignSpace, design_space, unit_suffix
+from .designs import DesignSpace, unit_suffix
+from .sweep_figures import atlas_figures, run_figures, singular_designs, torque_figures
+from .sweep_motor import has_drives, motor_figures
+from .sweep_plant import ON, on_note, parameter_index, plant_designs, plant_overrides
 
 #: designs per batch where the motion is shared (one C loop each): large enough that the
 #: Python around a batch is a few per cent, small enough to spread over cores
 FAST_BATCH = 4096
-#: designs per numpy pass of the motor-side figures (their torques at every sample, designs x
-#: samples x coordinates): a few hundred keep a pass in cache
-MOTOR_CHUNK = 256
-#: which parameter set of a control study the designs change
-ON = ("both", "model", "plant")
 
 
 @dataclass
@@ -168,7 +164,7 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
                 f"{st.name} is a study of kind = \"{st.kind}\": one robot, no plant")
         raise InputError(f"on = {on!r} is for control studies (a controller's model and a "
                          f"plant): {what}; leave on = 'both'")
-    space, plant_P = _designs(st, robot, vary, on, sample=sample, count=count, seed=seed,
+    space, plant_P = plant_designs(st, robot, vary, on, sample=sample, count=count, seed=seed,
                               control=atlas is None and st.kind == "control")
     if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
         raise InputError(f"workers must be an integer >= 1 (got {workers!r})")
@@ -193,70 +189,6 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
 
 
 # -- the two parameter sets of a control study -------------------------------------------------
-def _designs(st: specs.Study, robot: Robot, vary: dict, on: str, *, sample: str,
-             count: int | None, seed: int, control: bool) -> tuple[DesignSpace, np.ndarray | None]:
-    """The designs' model parameter vectors (``space.P``: what the worker robot is set to) and,
-    for a control study, the plant's (D, n_p). Each set a design changes is checked as a
-    design of its own base: the study's robot, or the study's plant (``[control.plant]``)."""
-    from ..study.parameters import with_overrides
-
-    if not control:
-        return design_space(robot, vary, sample=sample, count=count, seed=seed), None
-    plant = with_overrides(robot, st.control.plant, f"{st.path or st.name}: control.plant")
-    if on == "plant":
-        try:
-            space = design_space(plant, vary, sample=sample, count=count, seed=seed)
-        except InputError as exc:
-            raise InputError(f"the plant: {exc}") from None
-        plant_P = space.P
-        model = np.tile(robot.p, (len(space), 1))
-        values = model[:, [_index(robot, n) for n in space.names]]
-        return DesignSpace(space.names, space.units, values, model, space.sample), plant_P
-    space = design_space(robot, vary, sample=sample, count=count, seed=seed)
-    if on == "model":
-        return space, np.tile(plant.p, (len(space), 1))
-    # both: the plant's other [control.plant] values stay; the varied ones are the design's
-    plant_P = np.tile(plant.p, (len(space), 1))
-    for k, name in enumerate(space.names):
-        plant_P[:, _index(robot, name)] = space.values[:, k]
-    if not np.array_equal(plant_P, space.P):  # the plant is a design of its own base too
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # a unit slip was said once, for the model
-            try:
-                design_space(plant, vary, sample=sample, count=count, seed=seed)
-            except InputError as exc:
-                raise InputError(f"the plant: {exc}") from None
-    return space, plant_P
-
-
-def _index(robot: Robot, name: str) -> int:
-    return [par.name for par in robot.parameter_list].index(name)
-
-
-def _plant_overrides(robot: Robot, p: np.ndarray, plant: np.ndarray) -> dict:
-    """A design's ``[control.plant]``: every parameter where the plant differs from the model,
-    in SI with its SI unit (so that ``to_si`` multiplies by exactly 1)."""
-    return {par.name: (float(plant[k]), par.unit) for k, par in enumerate(robot.parameter_list)
-            if plant[k] != p[k]}
-
-
-def _on_note(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarray,
-             on: str) -> str:
-    """What the designs changed on which parameter set, and what the other one kept."""
-    names = ", ".join(space.names)
-    if on == "both":
-        replaced = [n for n in space.names if n in st.control.plant]
-        extra = (f" ([control.plant]'s {', '.join(replaced)} replaced by the design's)"
-                 if replaced else "")
-        return f"{names} varied on the controller's model and the plant{extra}"
-    units = {par.name: par.unit for par in robot.parameter_list}
-    kept = plant_P[0] if on == "model" else space.P[0]
-    held = ", ".join(f"{n} = {kept[_index(robot, n)]:.6g} {units[n]}" for n in space.names)
-    if on == "model":
-        return f"{names} varied on the controller's model only: the plant keeps {held}"
-    return f"{names} varied on the plant only: the controller's model keeps {held}"
-
-
 # -- routes ------------------------------------------------------------------------------------
 def kinematic_parameters(robot: Robot, space: str) -> set[str]:
     """Parameters that move the joints of a motion in ``space`` ("task" or "joint"): those the
@@ -345,120 +277,16 @@ def _run_job(job: _Job) -> _Out:
     return _per_design(job, robot)
 
 
-def _torque_figures(robot: Robot, stats: np.ndarray, closed: bool) -> dict[str, np.ndarray]:
-    """Peak and RMS per actuator from the C loop's (D, components, 3) min/max/mean-square;
-    for a closed chain also the largest cut-joint force and the worst conditioning."""
-    figs = {}
-    na = len(robot.actuated)
-    for k, i in enumerate(robot.actuated):
-        c = k if closed else i
-        name = coordinate_column("tau", i, robot.coordinate_units[i])
-        figs[f"peak_{name}"] = np.maximum(-stats[:, c, 0], stats[:, c, 1])
-        figs[f"rms_{name}"] = np.sqrt(stats[:, c, 2])
-    if closed:
-        for k, loop in enumerate(robot.loops):  # lambda's components: fx, fy per cut
-            fx, fy = (np.maximum(-stats[:, na + 2 * k + j, 0], stats[:, na + 2 * k + j, 1])
-                      for j in (0, 1))
-            figs[f"peak_fx_{loop}_n"] = fx
-            figs[f"peak_fy_{loop}_n"] = fy
-        figs["max_cond_phi_p"] = stats[:, na + robot.n_constraints, 1]
-    return figs
-
-
-def _singular(figs: dict[str, np.ndarray], start: int) -> dict[int, str]:
-    cond = figs.get("max_cond_phi_p")
-    if cond is None:
-        return {}
-    bad = ~(cond <= COND_LIMIT)
-    return {start + int(k): f"singular pose on the move: the passive-joint constraint Jacobian "
-            f"Phi_p has condition number {cond[k]:.3g} > {COND_LIMIT:g}" for k in np.flatnonzero(bad)}
-
-
-# -- the motor side ------------------------------------------------------------------------------
-def has_drives(robot: Robot) -> bool:
-    """Whether the description models an actuator (``[joints.actuator]``: a gear, a rotor or
-    friction). Without one every gear ratio is 1 and the motor figures would repeat the joint's."""
-    return any(d.modelled for d in robot.drive_train.drives)
-
-
-def gear_ratios(robot: Robot, P: np.ndarray) -> np.ndarray:
-    """Each design's gear ratio per actuator, shape (D, actuated), dimensionless (motor rad per
-    joint rad, per m at a slider): its ``gear_<joint>`` parameter where the robot has one (what
-    the compiled code and ``DriveTrain.of`` use), else the description's figure (1 without an
-    actuator model). ``P``: the designs' parameter vectors, shape (D, parameters), SI."""
-    names = [par.name for par in robot.parameter_list]
-    out = np.empty((len(P), len(robot.actuated)))
-    for k, drive in enumerate(robot.drive_train.drives):
-        key = f"gear_{drive.joint}"
-        out[:, k] = P[:, names.index(key)] if key in names else drive.gear_ratio
-    return out
-
-
-def motor_columns(i: int) -> tuple[str, str, str, str]:
-    """The motor-side figure columns of coordinate ``i`` (0-based): peak and RMS motor torque
-    (N*m, also behind a slider's screw), peak motor speed (rpm), peak power (W)."""
-    return (f"peak_motor_tau{i + 1}_n_m", f"rms_motor_tau{i + 1}_n_m",
-            f"peak_motor_speed{i + 1}_rpm", f"peak_power{i + 1}_w")
-
-
-def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
-    """w with w @ v**2 = the mean square of v(t) by the trapezoidal rule over t (``sizing``'s
-    RMS); the plain mean over one sample or no time span."""
-    span = t[-1] - t[0] if len(t) > 1 else 0.0
-    if span <= 0:
-        return np.full(len(t), 1.0 / len(t))
-    dt = np.diff(t)
-    w = np.zeros(len(t))
-    w[:-1] += dt / 2
-    w[1:] += dt / 2
-    return w / span
-
-
-def _motor_figures(robot: Robot, fn, P: np.ndarray, motion: tuple, t: np.ndarray,
-                   joint: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """Motor-side figures of the designs ``P`` along ``motion`` (q, qd, qdd: (N, n) shared or
-    (D, N, n) per design): the torques again at every sample, ``MOTOR_CHUNK`` designs at a
-    time, for the trapezoidal RMS and the peak power |tau qd| (a per-sample product the C
-    loop's reduction cannot give); the peak motor torque from the joint's peak (``joint``)."""
-    closed = robot.is_closed_chain
-    q, qd, qdd = motion
-    per_design = q.ndim == 3
-    D, act = len(P), list(robot.actuated)
-    ratios = gear_ratios(robot, P)
-    w = _trapezoid_weights(t)
-    ms, power = np.empty((D, len(act))), np.empty((D, len(act)))
-    for s in range(0, D, MOTOR_CHUNK):
-        sl = slice(s, s + MOTOR_CHUNK)
-        args = (q[sl], qd[sl], qdd[sl]) if per_design else (q, qd, qdd)
-        out = fn.designs(P[sl], *args)
-        tau = out[0] if closed else out  # closed: the actuated torques; tree: every coordinate
-        for k, i in enumerate(act):
-            tk = tau[:, :, k if closed else i]  # (d, N), strided: each product below is new
-            p = tk * args[1][..., i]  # the product sizing takes: tau * qd
-            power[sl, k] = np.abs(p, out=p).max(axis=1)
-            ms[sl, k] = np.square(tk) @ w
-    speed = np.abs(qd[..., act]).max(axis=-2)  # (actuated,) shared, (D, actuated) per design
-    figs = {}
-    for k, i in enumerate(act):
-        peak_t, rms_t, peak_w, peak_p = motor_columns(i)
-        peak = joint["peak_" + coordinate_column("tau", i, robot.coordinate_units[i])]
-        figs[peak_t] = peak / ratios[:, k]
-        figs[rms_t] = np.sqrt(ms[:, k]) / ratios[:, k]
-        figs[peak_w] = speed[..., k] * ratios[:, k] * RPM
-        figs[peak_p] = power[:, k]
-    return figs
-
-
 def _shared(job: _Job) -> _Out:
     robot = job.robot
     q, qd, qdd, t = job.shared
     closed = robot.is_closed_chain
     fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
     stats = fn.designs(job.P, q, qd, qdd, reduce=True)
-    figs = _torque_figures(robot, stats, closed)
+    figs = torque_figures(robot, stats, closed)
     if has_drives(robot):
-        figs.update(_motor_figures(robot, fn, job.P, (q, qd, qdd), t, figs))
-    return _Out(figs, _singular(figs, job.start))
+        figs.update(motor_figures(robot, fn, job.P, (q, qd, qdd), t, figs))
+    return _Out(figs, singular_designs(figs, job.start))
 
 
 def _motion_per_design(job: _Job, robot: Robot) -> _Out:
@@ -483,13 +311,13 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
         q, qd, qdd = (np.ascontiguousarray(np.stack([motions[k][j] for k in ok]))
                       for j in range(3))
         fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
-        sub = _torque_figures(robot, fn.designs(job.P[ok], q, qd, qdd, reduce=True), closed)
+        sub = torque_figures(robot, fn.designs(job.P[ok], q, qd, qdd, reduce=True), closed)
         if has_drives(robot):
-            sub.update(_motor_figures(robot, fn, job.P[ok], (q, qd, qdd), t, sub))
+            sub.update(motor_figures(robot, fn, job.P[ok], (q, qd, qdd), t, sub))
         for name, v in sub.items():
             figs[name] = np.full(D, np.nan)
             figs[name][ok] = v
-        for k, why in _singular(sub, 0).items():
+        for k, why in singular_designs(sub, 0).items():
             failed[job.start + ok[k]] = why
     return _Out(figs, failed)
 
@@ -503,10 +331,10 @@ def _per_design(job: _Job, robot: Robot) -> _Out:
         robot.p[:] = p
         st = job.study
         if job.plant is not None:  # a control study: the design's plant over its model
-            st = replace(st, control=replace(st.control, plant=_plant_overrides(
+            st = replace(st, control=replace(st.control, plant=plant_overrides(
                 robot, p, job.plant[k])))
         try:
-            rows.append(_atlas_figures(robot, job.atlas) if job.route == "atlas"
+            rows.append(atlas_figures(robot, job.atlas) if job.route == "atlas"
                         else run_figures(st, robot))
         except PlanarSymError as exc:
             failed[job.start + k] = str(exc)
@@ -516,51 +344,13 @@ def _per_design(job: _Job, robot: Robot) -> _Out:
     return _Out(figs, failed)
 
 
-def run_figures(st: specs.Study, robot: Robot) -> dict[str, float]:
-    """One run's figures: peak and RMS of every torque column; for a controlled run the
-    largest tracking error of every coordinate and of the task point, and the work done; with
-    actuator models, the motor side of the run's sizing (``Result.sizing``: the plant's, under
-    control)."""
-    from ..study.run import run_on
-
-    res = run_on(st, robot)
-    figs = {}
-    for name, v in res.torques().items():
-        figs[f"peak_{name}"] = float(np.max(np.abs(v)))
-        figs[f"rms_{name}"] = float(np.sqrt(np.mean(v**2)))
-    for name, v in res.columns.items():
-        if name.startswith(("fx_", "fy_")):
-            figs[f"peak_{name}"] = float(np.max(np.abs(v)))
-        elif name.startswith("e") and name[1:2].isdigit() or name == "e_task_mm":
-            figs[f"max_abs_{name}"] = float(np.max(np.abs(v)))
-        elif name in ("work_j", "friction_j"):
-            figs[f"final_{name}"] = float(v[-1])
-        elif name == "energy_j":
-            figs["energy_change_j"] = float(v[-1] - v[0])
-    if has_drives(robot):
-        for a in res.sizing:
-            peak_t, rms_t, peak_w, peak_p = motor_columns(a.coordinate)
-            figs[peak_t] = a.peak_motor_torque_n_m
-            figs[rms_t] = a.rms_motor_torque_n_m
-            figs[peak_w] = a.peak_motor_speed_rpm
-            figs[peak_p] = a.peak_power_w
-    return figs
-
-
-def _atlas_figures(robot: Robot, options: dict) -> dict[str, float]:
-    from .atlas import atlas
-
-    return {k: float(v) for k, v in atlas(robot, **options).summary().items()  # not labels
-            if isinstance(v, (bool, int, float, np.bool_, np.number))}
-
-
 def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarray | None,
            on: str, route: str, jobs: list[_Job], outs: list) -> SweepResult:
     D = len(space)
     columns = space.columns()
     if plant_P is not None:  # the plant's value of every varied parameter, beside the model's
         for name, unit in zip(space.names, space.units):
-            columns[f"plant_{name}_{unit_suffix(unit)}"] = plant_P[:, _index(robot, name)]
+            columns[f"plant_{name}_{unit_suffix(unit)}"] = plant_P[:, parameter_index(robot, name)]
     varied = tuple(columns)
     failed: dict[int, str] = {}
     figs: dict[str, np.ndarray] = {}
@@ -581,7 +371,7 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
     columns.update(figs)
     note = f"{D} designs ({space.sample}), {route}"
     if plant_P is not None:
-        note += "; " + _on_note(st, robot, space, plant_P, on)
+        note += "; " + on_note(st, robot, space, plant_P, on)
     if failed:
         note += f"; {len(failed)} failed"
     if lost:

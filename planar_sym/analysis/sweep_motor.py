@@ -1,0 +1,89 @@
+"""Sweeps' motor-side figures: per actuator and design, peak and RMS motor torque (with each
+design's own gear ratio), peak motor speed and peak power, as ``study.sizing`` gives them for
+one run (the trapezoidal RMS, the per-sample product tau qd)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model.robot import Robot
+from ..study.result import coordinate_column
+from ..study.sizing import RPM
+
+#: designs per numpy pass of the motor-side figures (their torques at every sample, designs x
+#: samples x coordinates): a few hundred keep a pass in cache
+MOTOR_CHUNK = 256
+
+
+def has_drives(robot: Robot) -> bool:
+    """Whether the description models an actuator (``[joints.actuator]``: a gear, a rotor or
+    friction). Without one every gear ratio is 1 and the motor figures would repeat the joint's."""
+    return any(d.modelled for d in robot.drive_train.drives)
+
+
+def gear_ratios(robot: Robot, P: np.ndarray) -> np.ndarray:
+    """Each design's gear ratio per actuator, shape (D, actuated), dimensionless (motor rad per
+    joint rad, per m at a slider): its ``gear_<joint>`` parameter where the robot has one (what
+    the compiled code and ``DriveTrain.of`` use), else the description's figure (1 without an
+    actuator model). ``P``: the designs' parameter vectors, shape (D, parameters), SI."""
+    names = [par.name for par in robot.parameter_list]
+    out = np.empty((len(P), len(robot.actuated)))
+    for k, drive in enumerate(robot.drive_train.drives):
+        key = f"gear_{drive.joint}"
+        out[:, k] = P[:, names.index(key)] if key in names else drive.gear_ratio
+    return out
+
+
+def motor_columns(i: int) -> tuple[str, str, str, str]:
+    """The motor-side figure columns of coordinate ``i`` (0-based): peak and RMS motor torque
+    (N*m, also behind a slider's screw), peak motor speed (rpm), peak power (W)."""
+    return (f"peak_motor_tau{i + 1}_n_m", f"rms_motor_tau{i + 1}_n_m",
+            f"peak_motor_speed{i + 1}_rpm", f"peak_power{i + 1}_w")
+
+
+def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
+    """w with w @ v**2 = the mean square of v(t) by the trapezoidal rule over t (``sizing``'s
+    RMS); the plain mean over one sample or no time span."""
+    span = t[-1] - t[0] if len(t) > 1 else 0.0
+    if span <= 0:
+        return np.full(len(t), 1.0 / len(t))
+    dt = np.diff(t)
+    w = np.zeros(len(t))
+    w[:-1] += dt / 2
+    w[1:] += dt / 2
+    return w / span
+
+
+def motor_figures(robot: Robot, fn, P: np.ndarray, motion: tuple, t: np.ndarray,
+                   joint: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Motor-side figures of the designs ``P`` along ``motion`` (q, qd, qdd: (N, n) shared or
+    (D, N, n) per design): the torques again at every sample, ``MOTOR_CHUNK`` designs at a
+    time, for the trapezoidal RMS and the peak power |tau qd| (a per-sample product the C
+    loop's reduction cannot give); the peak motor torque from the joint's peak (``joint``)."""
+    closed = robot.is_closed_chain
+    q, qd, qdd = motion
+    per_design = q.ndim == 3
+    D, act = len(P), list(robot.actuated)
+    ratios = gear_ratios(robot, P)
+    w = _trapezoid_weights(t)
+    ms, power = np.empty((D, len(act))), np.empty((D, len(act)))
+    for s in range(0, D, MOTOR_CHUNK):
+        sl = slice(s, s + MOTOR_CHUNK)
+        args = (q[sl], qd[sl], qdd[sl]) if per_design else (q, qd, qdd)
+        out = fn.designs(P[sl], *args)
+        tau = out[0] if closed else out  # closed: the actuated torques; tree: every coordinate
+        for k, i in enumerate(act):
+            tk = tau[:, :, k if closed else i]  # (d, N), strided: each product below is new
+            p = tk * args[1][..., i]  # the product sizing takes: tau * qd
+            power[sl, k] = np.abs(p, out=p).max(axis=1)
+            ms[sl, k] = np.square(tk) @ w
+    speed = np.abs(qd[..., act]).max(axis=-2)  # (actuated,) shared, (D, actuated) per design
+    figs = {}
+    for k, i in enumerate(act):
+        peak_t, rms_t, peak_w, peak_p = motor_columns(i)
+        peak = joint["peak_" + coordinate_column("tau", i, robot.coordinate_units[i])]
+        figs[peak_t] = peak / ratios[:, k]
+        figs[rms_t] = np.sqrt(ms[:, k]) / ratios[:, k]
+        figs[peak_w] = speed[..., k] * ratios[:, k] * RPM
+        figs[peak_p] = power[:, k]
+    return figs
