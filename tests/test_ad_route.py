@@ -30,8 +30,8 @@ from planar_sym.model import description
 ROOT = Path(__file__).resolve().parent.parent
 TOL = 1e-12
 FLOOR = 1e-300
-EXTRA = sorted((ROOT / "tests" / "robots").glob("*.toml")) + sorted(
-    p for p in (ROOT / "examples").glob("*.toml") if "turn" not in p.name)
+EXTRA = sorted((ROOT / "tests" / "robots").glob("*.toml")) + sorted(  # robots, not studies
+    p for p in (ROOT / "examples").glob("*.toml") if "[[bodies]]" in p.read_text())
 
 
 def _states(desc, rng, samples=12):
