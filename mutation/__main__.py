@@ -34,6 +34,33 @@ ALSO_COPY = ["derive", "generated", "examples", "benchmarks", "docs", "README.md
              "setup.py", "constraints.txt", "mkdocs.yml"]
 
 
+#: appended to the work copy's tests/conftest.py. Each mutant is forked from the process that
+#: ran the clean tests (mutmut's default, fast), so a result a module cached then (the joint
+#: loads' structure, the plausibility tables) would meet the mutant instead of its code: emptied
+#: before every test. Loaded libraries are kept (compiled code is never mutated); mutmut's
+#: forkserver isolation avoids all this too but was 5x slower (a robot loaded per mutant).
+FRESH_CACHES = """
+
+# -- added by make mutate (mutation/__main__.py) --
+import sys as _sys
+
+import pytest as _pytest
+
+
+@_pytest.fixture(autouse=True)
+def _mutation_fresh_caches():
+    for _name, _mod in list(_sys.modules.items()):
+        if not _name.startswith("planar_sym") or _name == "planar_sym.model.locate":
+            continue
+        for _value in list(vars(_mod).values()):
+            if callable(getattr(_value, "cache_clear", None)):
+                _value.cache_clear()
+        if isinstance(vars(_mod).get("_CACHE"), dict):
+            _mod._CACHE.clear()
+    yield
+"""
+
+
 def _targets() -> dict[str, list[str]]:
     return {k: v["tests"] for k, v in tomllib.loads(TARGETS.read_text())["target"].items()}
 
@@ -71,12 +98,10 @@ def _prepare(work: Path, target: str, tests: list[str]) -> None:
         f"pytest_add_cli_args_test_selection = {tests!r}",
         # -x: a mutant is killed by its first failing test; no cache writes into the copy
         'pytest_add_cli_args = ["-x", "-q", "-p", "no:cacheprovider", "-m", "not slow"]',
-        "timeout_multiplier = 5.0",
-        # each mutant forked from a server that has only collected the tests: forked from the
-        # process that ran them (mutmut's default), a module-level cache (the joint loads'
-        # structure, the compiled libraries) would hold the clean run's values and hide mutants
-        'process_isolation = "forkserver"', 'forkserver_warmup = "collect"', ""]).replace("'", '"')
+        "timeout_multiplier = 5.0", ""]).replace("'", '"')
     (work / "pyproject.toml").write_text(config)
+    with (work / "tests" / "conftest.py").open("a") as f:
+        f.write(FRESH_CACHES)
 
 
 def _mutmut(work: Path, *args: str, capture: bool = True) -> str:
