@@ -176,10 +176,17 @@ def _in_the_engine(robot: Robot, q0, qd0, t_span, torque, t_eval, rtol: float, a
 
         q_on, qd0 = initial_state(robot, q0, qd0, project_state=True)
         correction, q0 = float(np.max(np.abs(q_on - q0))), q_on
+    act = list(robot.actuated)
     if torque is not None and not callable(torque) and not isinstance(torque, Signal):
-        torque = as_vector("torque", torque, len(robot.actuated))  # one per actuated joint
+        if np.ndim(torque) == 0:  # one number for every actuated joint, as the other methods
+            torque = np.full(len(act), torque, dtype=float)
+        torque = as_vector("torque", torque, len(act))  # one per actuated joint
     run = simulate_controlled(robot, Controller("none"), t_span, q0=q0, qd0=qd0, torque=torque,
                               t_eval=t_eval, method=method, rtol=rtol, atol=atol)
-    return Simulation(run.t_s, run.q, run.qd, run.tau, run.kinetic_j, run.potential_j,
+    tau = run.tau
+    if not robot.is_closed_chain:  # a tree's torques on every coordinate, 0 at a passive one
+        tau = np.zeros((len(run.t_s), n))
+        tau[:, act] = run.tau
+    return Simulation(run.t_s, run.q, run.qd, tau, run.kinetic_j, run.potential_j,
                       run.method, rtol, atol, run.n_rhs, run.constraint_drift_m, correction,
                       **labels(robot))
