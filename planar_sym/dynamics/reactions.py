@@ -114,8 +114,6 @@ class _Structure:
     subtree: np.ndarray  # (B, T): 1 where body b is at or beyond tree joint j's child
     cut_force: np.ndarray  # (L, B): +1 on the cut's parent (it feels +lambda), -1 on its child
     cut_moment: np.ndarray  # (2L, B): [-child; parent]: moments at the child, then parent points
-    revolute: np.ndarray  # (R,) tree joints that are revolute
-    revolute_coordinate: np.ndarray  # (R,) their coordinates
     slides: tuple[tuple[int, str], ...]  # prismatic tree joints: (index, name)
     #: rotors with inertia: (coordinate, body carrying the stator or -1 for ground, N, J kg*m^2)
     rotors: tuple[tuple[int, int, float, float], ...] = ()
@@ -151,7 +149,6 @@ def _structure(robot: Robot) -> _Structure:
     child = incidence(cuts, lambda j, b: j["child"] == b)
     mass = np.array([par.get(f"m_{b}", 0.0) for b in bodies])
     gravity = par.get("g", 0.0) * np.array(m["gravity_direction"], dtype=float)
-    revolute = [k for k, j in enumerate(tree) if j["type"] == "revolute"]
     by_name = {j["name"]: j for j in tree}
     rotors = tuple(
         (d.coordinate, bodies.index(by_name[d.joint]["parent"])
@@ -166,8 +163,6 @@ def _structure(robot: Robot) -> _Structure:
         subtree=incidence(tree, lambda j, b: b in below[j["child"]]).T.copy(),
         cut_force=parent - child,
         cut_moment=np.vstack([-child, parent]),
-        revolute=np.array(revolute, dtype=int),
-        revolute_coordinate=np.array([tree[k]["coordinate"] for k in revolute], dtype=int),
         slides=tuple((k, j["name"]) for k, j in enumerate(tree) if j["type"] == "prismatic"),
         rotors=rotors)
     if len(_CACHE) > 64:
