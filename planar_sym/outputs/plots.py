@@ -181,7 +181,7 @@ def split_figure(result: Result):
         how += "; tau = 0 here: the parts balance"
     names = {"inertial": "inertial M qdd", "velocity": "velocity C qd", "gravity": "gravity g",
              "friction": "friction D(qd)", "rotor": "rotors"}
-    _finish(fig, axes, result, f"torque split: {', '.join(names[k] for k in shown)} ({how})")
+    _finish(fig, axes, result, f"torque split: {', '.join(names[k] for k in shown)}\n({how})")
     return fig
 
 
