@@ -7,7 +7,7 @@ Everything else is declared in pyproject.toml.
   hash of the source it was built from: the runtime loads it only while the shipped ``.c``
   still has that hash (an edited checkout compiles into the cache instead).
 * The built-in robots' generated C, compiled as the runtime would (same compiler, flags and
-  file names, see ``planar_sym/model/library.py``) into ``planar_sym/model/prebuilt/``: a fresh
+  file names, see ``planar_sym/model/compile.py``) into ``planar_sym/model/prebuilt/``: a fresh
   install answers its first torque without compiling. The vectorised loops are built for this
   machine's CPU and named by it, so a wheel taken to another CPU compiles them on first use.
 
@@ -30,7 +30,7 @@ from setuptools.command.build_ext import build_ext
 
 ROOT = Path(__file__).resolve().parent
 
-#: as planar_sym/model/library.py compiles robots (CFLAGS, SIMD_CFLAGS); a library's file name
+#: as planar_sym/model/compile.py compiles robots (CFLAGS, SIMD_CFLAGS); a library's file name
 #: carries a hash of these and of its source (tests/test_install.py checks the two agree)
 CFLAGS = ("-O3", "-fPIC", "-shared", "-std=c99")
 SIMD_CFLAGS = ("-O3", "-march=native", "-ffast-math", "-fPIC", "-std=c99")
@@ -45,7 +45,7 @@ def _extension(module: str, source: str) -> Extension:
 
 
 def _machine_key() -> str:
-    """library._machine_key: the CPU a -march=native build is for."""
+    """compile._machine_key: the CPU a -march=native build is for."""
     try:
         info = Path("/proc/cpuinfo").read_text()
         lines = [ln for ln in info.splitlines() if ln.startswith(("model name", "flags"))][:2]
@@ -56,7 +56,7 @@ def _machine_key() -> str:
 
 def _robot_builds(folder: Path) -> list[tuple[Path, tuple, str]]:
     """(source, flags, file name) of one generated robot's libraries, named as
-    library.library_path names them: the exact functions, and the vectorised loops."""
+    compile.library_path names them: the exact functions, and the vectorised loops."""
     manifest = json.loads((folder / "manifest.json").read_text())
     robot, files = manifest["robot"], manifest["files"]
     builds = []

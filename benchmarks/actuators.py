@@ -138,7 +138,7 @@ def _derive(description: Path, out: Path, inproc: dict[str, list[float]]):
 def _compile(folder: Path, rounds: int, keep: Path):
     """A timed forced ``build`` and ``build_simd`` of a derived folder into a fresh cache; the
     last of ``rounds`` calls builds into ``keep`` (then loading from it compiles nothing)."""
-    from planar_sym.model import library
+    from planar_sym.model import compile as library
 
     manifest = library.read_manifest(folder)
     calls = []

@@ -50,7 +50,7 @@ def _imports_only():
 def _compile(robot: str, flavour: str):
     """A timed build of one flavour ("exact": ``build``; "simd": ``build_simd`` where the
     library and the robot have one, else None) into a fresh cache, and its source size."""
-    from planar_sym.model import library
+    from planar_sym.model import compile as library
 
     folder = library.find_generated(robot)
     manifest = library.read_manifest(folder)
@@ -74,7 +74,7 @@ def _compile(robot: str, flavour: str):
 
 
 def _trivial_compile(workdir: Path):
-    from planar_sym.model.library import CFLAGS, _compiler
+    from planar_sym.model.compile import CFLAGS, _compiler
 
     src = workdir / "trivial.c"
     src.write_text("double trivial(double x) { return 2.0 * x; }\n")
@@ -86,7 +86,7 @@ def _trivial_compile(workdir: Path):
 
 
 def run(cfg: Config) -> Section:
-    from planar_sym.model.library import CFLAGS
+    from planar_sym.model.compile import CFLAGS
 
     sec = Section("build", "3. Derive and compile times", __doc__.split("\n\n", 1)[1])
     per_robot: dict[str, list[float]] = {}

@@ -170,7 +170,8 @@ def _build_rounds(r: Robot, toml: Path, work: Path, repeats: int) -> tuple[Path,
 
 
 def _code(folder: Path) -> dict:
-    from planar_sym.model.library import exact_flags, read_manifest
+    from planar_sym.model.compile import exact_flags
+    from planar_sym.model.folders import read_manifest
 
     m = read_manifest(folder)
     name = m["robot"]

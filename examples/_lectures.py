@@ -10,7 +10,7 @@ import argparse
 import os
 from pathlib import Path
 
-from planar_sym.model.library import find_generated
+from planar_sym.model.folders import find_generated
 from planar_sym.study.result import Result
 
 

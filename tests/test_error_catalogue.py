@@ -45,7 +45,9 @@ from planar_sym.errors import (
     WorkspaceError,
 )
 from planar_sym.model import description
-from planar_sym.model.library import Library, build, build_simd, library_path, read_manifest
+from planar_sym.model.compile import build, build_simd, library_path
+from planar_sym.model.folders import read_manifest
+from planar_sym.model.library import Library
 from planar_sym.model.robot import Robot
 from planar_sym.motion import closure
 from planar_sym.motion.ik import inverse_kinematics
@@ -2186,7 +2188,7 @@ def _process_wide_helpers():
     """Build the process-wide C helpers (_fastcall, _integrate) in the normal cache first, so that
     no entry's private cache or broken compiler decides them for later tests."""
     from planar_sym.dynamics.integrate import integrator
-    from planar_sym.model.library import fastcall
+    from planar_sym.model.compile import fastcall
 
     fastcall()
     integrator()
@@ -2287,7 +2289,9 @@ TRUNCATED = """
 import shutil, sys, warnings
 from pathlib import Path
 import numpy as np
-from planar_sym.model.library import Library, build, library_path, read_manifest
+from planar_sym.model.compile import build, library_path
+from planar_sym.model.folders import read_manifest
+from planar_sym.model.library import Library
 from planar_sym.model.robot import Robot
 
 folder = Path(sys.argv[1])
@@ -2339,7 +2343,7 @@ def test_known_bug_corrupt_integrator_library(tmp_path, monkeypatch):
     import hashlib
 
     from planar_sym.dynamics import integrate
-    from planar_sym.model import library as lib
+    from planar_sym.model import compile as lib
 
     arm = _arm()  # loaded from the normal cache first
     src = Path(integrate.__file__).parent / "_integrate.c"

@@ -17,7 +17,7 @@ from conftest import ROBOTS_DIR, ROOT, study_motion
 
 import planar_sym as ps
 from planar_sym.errors import InputError, WorkspaceError
-from planar_sym.model.robot import COND_LIMIT
+from planar_sym.model.loops import COND_LIMIT
 from planar_sym.motion import newton
 from planar_sym.motion.failures import Failures
 from planar_sym.motion.ik import inverse_kinematics

@@ -11,7 +11,9 @@ import pytest
 from conftest import GENERATED
 
 from planar_sym.errors import InputError, LibraryError
-from planar_sym.model.library import Library, build, library_path, read_manifest
+from planar_sym.model.compile import build, library_path
+from planar_sym.model.folders import read_manifest
+from planar_sym.model.library import Library
 from planar_sym.model.locate import load
 from planar_sym.model.robot import Robot
 

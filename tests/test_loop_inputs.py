@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 import planar_sym as ps
 from planar_sym.errors import InputError
-from planar_sym.model.robot import LOOP_TOL_M
+from planar_sym.model.loops import LOOP_TOL_M
 
 CLOSED = ("five_bar_type1", "five_bar_type2", "parallel_3rrr")
 SETTINGS = settings(max_examples=60, deadline=None, derandomize=True,

@@ -21,8 +21,10 @@ from pathlib import Path
 
 import pytest
 
-from planar_sym.model import library
+from planar_sym.model import compile as library
 from planar_sym.model.description import builtin_robots
+from planar_sym.model.folders import find_generated, read_manifest
+from planar_sym.model.library import Library
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -47,8 +49,8 @@ def test_every_runtime_package_is_packaged():
 
 @pytest.mark.parametrize("robot", builtin_robots())
 def test_install_names_libraries_as_the_runtime_does(robot):
-    folder = library.find_generated(robot)
-    manifest = library.read_manifest(folder)
+    folder = find_generated(robot)
+    manifest = read_manifest(folder)
     names = {name for _, _, name in _setup_module()._robot_builds(folder)}
     assert names == {library.library_path(folder, manifest).name,
                      library.library_path(folder, manifest, "simd").name}
@@ -62,7 +64,7 @@ def test_runtime_uses_what_the_install_built(tmp_path, monkeypatch):
     built = library.installed_extension(ROOT / "planar_sym" / "motion" / "_newton.c")
     if built is None or not any(library.PREBUILT.glob("*.so")):
         pytest.fail("the install's C was not built: run `make venv` (pip install -e .)")
-    lib = library.Library("parallel_3rrr")
+    lib = Library("parallel_3rrr")
     assert lib.path.parent == library.PREBUILT
     helper = library.load_helper(ROOT / "planar_sym" / "motion" / "_newton.c")
     assert Path(helper._name) == built

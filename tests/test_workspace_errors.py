@@ -15,7 +15,7 @@ import pytest
 
 from planar_sym.errors import InputError, WorkspaceError
 from planar_sym.model.locate import load
-from planar_sym.model.robot import COND_LIMIT
+from planar_sym.model.loops import COND_LIMIT
 from planar_sym.motion import closure
 from planar_sym.motion.ik import inverse_kinematics
 from planar_sym.motion.profiles import coeff_3rd, cubic

@@ -138,7 +138,8 @@ def build(folder: Path | None = None, force: bool = False) -> Path:
     """
     from filelock import FileLock
 
-    from planar_sym.model.library import _machine_key, cache_dir
+    from planar_sym.model.compile import _machine_key
+    from planar_sym.model.folders import cache_dir
 
     folder = Path(folder) if folder is not None else cache_dir()
     probe = command(Path("EXE"))

@@ -22,7 +22,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import atomic_files
-from ..model.robot import Robot, as_vector
+from ..model.arrays import as_vector
+from ..model.robot import Robot
 from .atlas_flood import _resolve, _start_cell, flood, start
 from .atlas_grid import _task_body, make_grid
 from .envelope_along import EnvelopeAlong, envelope_along

@@ -25,7 +25,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.robot import COND_LIMIT, Robot
+from ..model.loops import COND_LIMIT
+from ..model.robot import Robot
 
 
 def scales(robot: Robot, length_scale: float) -> tuple[np.ndarray, np.ndarray]:

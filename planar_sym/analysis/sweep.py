@@ -8,10 +8,11 @@ Parameters go to the compiled code per call, never through a new ``Robot`` per d
   one C loop over the designs (``Caller.designs``, the GIL released), reducing each design's
   samples to its peak and RMS as it goes;
 * **lengths that move the joints** (the inverse kinematics, a closed chain's passive joints):
-  the study's own motion code runs per design, on one robot per worker whose parameter vector
-  is set in place, and the inverse dynamics again in one C loop per batch of designs;
-* **simulations, controlled runs and atlases**: the study (or atlas) runs per design on that
-  worker robot.
+  the study's own motion code runs per design, on the robot with that design's parameters
+  (the same compiled code; its columns checked at once beforehand), and the inverse dynamics
+  again in one C loop per batch of designs;
+* **simulations, controlled runs and atlases**: the study (or atlas) runs per design on the
+  robot with that design's parameters.
 
 A control study has two parameter sets: the controller's model (the robot with the study's
 ``[parameters]``) and the plant (the model with ``[control.plant]`` on top). ``on`` says which
@@ -271,10 +272,16 @@ def _gather(pool, jobs: list[_Job]) -> list[_Out | BaseException]:
 def _run_job(job: _Job) -> _Out:
     if job.route == "shared motion":
         return _shared(job)
-    robot = Robot(job.robot.name, job.robot.library, job.robot.p.copy(), exact=job.robot.exact)
+    robot = job.robot
     if job.route == "motion per design":
         return _motion_per_design(job, robot)
     return _per_design(job, robot)
+
+
+def _design(robot: Robot, p: np.ndarray) -> Robot:
+    """The robot with one design's parameter vector (SI): its columns passed the same rules at
+    once (``model.parameters.failing``) when the design space was made."""
+    return robot.with_values(robot.parameters.with_vector(p, checked=True))
 
 
 def _shared(job: _Job) -> _Out:
@@ -297,9 +304,9 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
     D, closed = len(job.P), robot.is_closed_chain
     motions, failed, t = [], {}, None
     for k, p in enumerate(job.P):
-        robot.p[:] = p
+        design = _design(robot, p)
         try:
-            jt, _ = joint_motion(job.study, robot)
+            jt, _ = joint_motion(job.study, design)
             motions.append((jt.q, jt.qd, jt.qdd))
             t = jt.t_s  # the study's sample times: every design's
         except PlanarSymError as exc:
@@ -328,14 +335,14 @@ def _per_design(job: _Job, robot: Robot) -> _Out:
 
     rows, failed = [], {}
     for k, p in enumerate(job.P):
-        robot.p[:] = p
+        design = _design(robot, p)
         st = job.study
         if job.plant is not None:  # a control study: the design's plant over its model
             st = replace(st, control=replace(st.control, plant=plant_overrides(
-                robot, p, job.plant[k])))
+                design, p, job.plant[k])))
         try:
-            rows.append(atlas_figures(robot, job.atlas) if job.route == "atlas"
-                        else run_figures(st, robot))
+            rows.append(atlas_figures(design, job.atlas) if job.route == "atlas"
+                        else run_figures(st, design))
         except PlanarSymError as exc:
             failed[job.start + k] = str(exc)
             rows.append(None)

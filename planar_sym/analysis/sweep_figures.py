@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.robot import COND_LIMIT, Robot
+from ..model.loops import COND_LIMIT
+from ..model.robot import Robot
 from ..study import spec as specs
 from ..study.result import coordinate_column
 from .sweep_motor import has_drives, motor_columns

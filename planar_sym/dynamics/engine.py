@@ -16,7 +16,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..model.robot import Robot, as_vector
+from ..model.arrays import as_vector
+from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal, from_motion
 from .events import Event, EventSpec, actuator_events, joint_limit_events

@@ -22,7 +22,8 @@ from scipy.integrate import solve_ivp
 
 from ..errors import InputError, SimulationError
 from ..model.library import SingleCall
-from ..model.robot import Robot, as_vector
+from ..model.arrays import as_vector
+from ..model.robot import Robot
 from ..motion.signals import Signal
 from .integrate import (
     SCIPY_METHODS,

@@ -6,8 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, SimulationError
+from ..model.arrays import as_vector
 from ..model.library import SingleCall
-from ..model.robot import Robot, as_vector
+from ..model.robot import Robot
 from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, partition, solve_passive
 from .integrate import (
     SCIPY_METHODS,

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..model.library import load_helper
+from ..model.compile import load_helper
 from ..model.robot import Robot
 from .columns import coordinate_column
 

@@ -46,8 +46,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError, LibraryError
+from ..model.arrays import as_samples
 from ..model.description import GROUND
-from ..model.robot import Robot, as_samples
+from ..model.robot import Robot
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ import hashlib
 from pathlib import Path
 
 from ..errors import DescriptionError, LibraryError
-from .library import cache_dir
+from .folders import cache_dir
 
 _PKG = Path(__file__).resolve().parent.parent
 

@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, LibraryError
-from .library import Library, cache_dir, find_generated
+from .folders import cache_dir, find_generated
+from .library import Library
 from .robot import Robot
 
 _CACHE: dict[tuple[Path, int, int], Library] = {}
@@ -149,5 +150,4 @@ def _restore(ref: tuple[str, str | None, str | None], input_hash: str, p: np.nda
                            f"the pickled one ({input_hash[:16]}...): derive the same description")
     if exact != robot.exact:
         robot = Robot(robot.name, robot.library, exact=exact)
-    robot.p[:] = p  # in place: the compiled callers read this very array
-    return robot
+    return robot.with_values(robot.parameters.with_vector(p))

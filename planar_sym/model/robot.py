@@ -11,101 +11,32 @@ which case the result drops the sample axis too) and makes one compiled call for
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, LibraryError, WorkspaceError
+from ..errors import InputError, LibraryError
+from .arrays import as_samples, as_vector, when
 from .drive import DriveTrain
-from .library import Library, builtin_generated_dirs, fastcall
+from .fast_paths import bind_fast_paths
+from .library import Library
+from .loop_functions import LoopFunctions
+from .loops import COND_LIMIT, LOOP_TOL_M
+from .parameter_set import Parameter, Parameters
 
-#: a Jacobian whose condition number exceeds this is called singular. Near a singularity the
-#: condition number grows like 1 / distance, and joint rates and torques with it: at 1e6 they
-#: are already about a million times their size at a well-conditioned pose.
-COND_LIMIT = 1e6
-
-#: a closed chain's state is on its loops when its residuals stay within this (m; see
-#: Robot.check_on_loops): Newton closes them to 1e-13 m, the seed's closed forms to 1e-16 m
-LOOP_TOL_M = 1e-9
-
-
-def _when(t, k: int) -> str:
-    return f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
+# the checks and the parameter types live in their own modules; these names stay importable
+# from here, where they were first defined
+__all__ = ["COND_LIMIT", "LOOP_TOL_M", "Parameter", "Parameters", "Robot", "as_samples",
+           "as_vector", "when"]
 
 
-@dataclass(frozen=True)
-class Parameter:
-    """One physical parameter of a robot, as its generated manifest lists it.
-
-    Attributes
-    ----------
-    name : str
-        Its name in ``Robot.parameters`` and ``with_parameters`` (``m_link1``, ``izz_link1``,
-        ``g``, ...).
-    value : float
-        The value the robot was derived with, in SI (``unit``).
-    unit : str
-        Its SI unit: ``"kg"``, ``"m"``, ``"kg*m^2"``, ``"m/s^2"``, ...
-    meaning : str
-        What it is, in words ("mass of link1").
-    """
-
-    name: str
-    value: float
-    unit: str
-    meaning: str
-
-
-def as_vector(name: str, a, width: int) -> np.ndarray:
-    """``a`` as one finite float64 vector of ``width`` values: (width,) or (1, width) only,
-    never the first row of several (a second initial state is a mistake to report).
-
-    Units are the caller's (the values are not converted: SI throughout the package); a bad
-    shape or a non-finite value raises InputError naming ``name``. Returns shape (width,).
-    """
-    arr = as_samples(name, a, width)
-    if len(arr) != 1:
-        raise InputError(f"{name} must be one vector of {width} values, got {len(arr)} rows "
-                         f"(shape {np.shape(a)})")
-    return arr[0].copy()
-
-
-def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> np.ndarray:
-    """``a`` as a C-contiguous float64 (N, width) array; names the first bad sample.
-
-    ``a`` is (N, width) or (width,) (one sample); its values are kept as given (SI
-    throughout the package, not converted). ``times`` (N,), in s, lets the error name the
-    time of a non-finite sample too.
-    """
-    try:
-        raw = np.asarray(a)
-        complex_ = np.iscomplexobj(raw)
-        arr = raw.astype(np.float64, copy=False) if not complex_ else raw
-    except (TypeError, ValueError, OverflowError) as exc:
-        raise InputError(f"{name} must be an array of numbers of shape (N, {width}) or "
-                         f"({width},): {exc}") from None
-    if complex_:
-        raise InputError(f"{name} must be real, got complex values")
-    if arr.ndim == 1:
-        arr = arr[None, :]
-    if arr.ndim != 2 or arr.shape[1] != width:
-        raise InputError(f"{name} must have shape (N, {width}) or ({width},), "
-                         f"got {np.shape(a)}")
-    # a finite sum means every entry is finite (one pass, no mask); an inf or NaN sum may be
-    # an overflow of finite values, so only then is the mask built
-    with np.errstate(over="ignore", invalid="ignore"):  # the fallback below decides
-        total = arr.sum()
-    if not np.isfinite(total) and (bad := ~np.isfinite(arr)).any():
-        k, col = np.argwhere(bad)[0]
-        when = f" (t = {times[k]:.6g} s)" if times is not None and k < len(times) else ""
-        raise InputError(f"{name}[{k}, {col}] is {arr[k, col]} at sample {k}{when}: "
-                         "inputs must be finite")
-    return np.ascontiguousarray(arr)
-
-
-class Robot:
-    """Compiled dynamics of one robot; parameters are an input vector, changeable at will.
+class Robot(LoopFunctions):
+    """The model of one robot: its description's names, its compiled functions, its checked
+    parameters and its drive train; immutable (``with_parameters`` makes another robot on the
+    same compiled code, no re-derivation). The algorithms that use it are functions of the
+    layers above (``dynamics``, ``motion``, ``analysis``); the methods here evaluate the
+    generated functions over whole trajectories.
 
     Load one with ``planar_sym.load`` (which compiles on first use and caches); the
     constructor is for a generated folder's ``Library`` at hand.
@@ -116,9 +47,10 @@ class Robot:
         A built-in robot's name (its generated folder), when ``library`` is not given.
     library : Library, optional
         The generated code and its manifest (``model.library``).
-    parameters : ndarray, shape (len(parameter_list),), optional
+    parameters : ndarray, shape (len(parameter_list),), or Parameters, optional
         Parameter values in SI (kg, m, kg*m^2, m/s^2), in ``parameter_list`` order; default
-        the values the robot was derived with. Checked as ``with_parameters`` checks them.
+        the values the robot was derived with. Checked as ``with_parameters`` checks them (a
+        ``Parameters`` is already checked).
     exact : bool, optional
         True: CasADi's per-sample functions, compiled without fast math; False: the
         vectorised C callers; None (default): exact only if ``PLANAR_SYM_EXACT=1``.
@@ -150,8 +82,10 @@ class Robot:
         The drawn configuration (rad, m for a slider): the description's own pose.
     parameter_list : tuple of Parameter
         Every parameter: name, SI value as derived, unit and meaning.
+    parameters : Parameters
+        Name -> SI value of every parameter in use, one checked immutable value.
     p : ndarray, shape (len(parameter_list),)
-        The parameter values the compiled functions use (SI), read in place on every call.
+        ``parameters.vector``: what the compiled functions read (SI), read-only.
     exact : bool
         Whether the exact per-sample path is used (see ``exact`` above).
     library : Library
@@ -184,57 +118,19 @@ class Robot:
              "gear_ratio": 1.0, "torque_limit": None, "motor_torque_limit": None,
              "motor_speed_limit_rad_s": None} for i in self.actuated))
         self.q_drawn = np.array(m["q_drawn"])
-        self.parameter_list = tuple(Parameter(**p) for p in m["parameters"])
-        p = np.array([x.value for x in self.parameter_list]) if parameters is None else parameters
-        if np.ndim(p) != 1:
-            raise InputError(f"parameters must be a vector of {len(self.parameter_list)} values "
-                             f"(got shape {np.shape(p)})")
-        self.p = as_samples("parameters", p, len(self.parameter_list))[0].copy()
-        if parameters is not None:  # the manifest's own values passed the description's checks
-            from .parameters import problems
-
-            found = problems(self.parameters, self.body_names)
-            if found:
-                raise InputError(f"{self.name}: " + "; ".join(found))
+        entries = tuple(Parameter(**p) for p in m["parameters"])
+        #: the one parameter value of this robot (checked once, read-only: a change makes a
+        #: new Robot); the compiled callers read its vector in place
+        self._parameters = (
+            parameters if isinstance(parameters, Parameters) else
+            Parameters(entries, parameters, bodies=self.body_names, owner=self.name))
         self._fns = self.library.functions
         #: exact: CasADi's per-sample functions compiled without fast math. Otherwise the
         #: hot methods below are C-level callers of the vectorised loops (same algorithm,
         #: -ffast-math: agrees with the exact path to ~1e-15 relative, tested to 1e-12).
         self.exact = (os.environ.get("PLANAR_SYM_EXACT") == "1") if exact is None else exact
         if not self.exact:
-            self._bind_fast_paths()
-
-    def _bind_fast_paths(self) -> None:
-        fast = fastcall()
-        if fast is None or self.library.simd is None:
-            return
-        methods = {"mass_matrix": "mass_matrix", "bias": "bias", "gravity": "gravity",
-                   "tree_inverse_dynamics": "inverse_dynamics", "energy": "energy"}
-        if not self.is_closed_chain:
-            methods.update(forward_dynamics="forward_dynamics")
-            if len(self.actuated) == self.n:  # else the method refuses (passive joints)
-                methods.update(inverse_dynamics="inverse_dynamics")
-        else:
-            methods.update(constraint="constraint", constraint_jacobian="constraint_jacobian",
-                           constraint_bias="constraint_bias",
-                           _closed_inverse_dynamics="closed_inverse_dynamics")
-        if "body_motion" in self.library.manifest["functions"]:  # folders derived before lack it
-            methods.update(body_motion="body_motion")
-        kinds = {"scalar": 0, "vector": 1, "matrix": 2}
-        for attr, quantity in methods.items():
-            spec = self.library.manifest["functions"][quantity]
-            if "loop" not in spec:  # derive makes loops only for these (codegen.LOOPED)
-                continue
-            ins = [(name, size) for name, size in spec["inputs"]]
-            names = tuple(name for name, _ in ins if name != "p")
-            caller = fast.make(
-                self.library.loop_address(quantity),
-                tuple(size for name, size in ins if name != "p"),
-                [name for name, _ in ins].index("p"),
-                tuple((rows, cols, kinds[kind]) for _, rows, cols, kind in spec["outputs"]),
-                self.p, InputError, names, getattr(type(self), attr, None).__doc__
-                if hasattr(type(self), attr) else spec["doc"])
-            setattr(self, attr, caller)  # instance attribute: no Python frame per call
+            bind_fast_paths(self)
 
     @property
     def n(self) -> int:
@@ -244,27 +140,21 @@ class Robot:
 
     @property
     def is_builtin(self) -> bool:
-        """True for the package's own robots (their generated folders ship with it): a user's
-        robot that shares a built-in name is not one, so it never gets a built-in's solver."""
-        return self.library.folder.resolve().parent in builtin_generated_dirs()
+        """True for the package's own robots (``Library.is_builtin``)."""
+        return self.library.is_builtin
 
     @property
     def description_file(self) -> Path | None:
-        """The description this robot was derived from, where it is at hand: a built-in one's
-        ``robots/<name>.toml``, or the ``description.toml`` copy in its generated folder."""
-        if self.is_builtin:
-            from .description import robots_dir
-
-            return robots_dir() / f"{self.name}.toml"
-        copy = self.library.folder / "description.toml"
-        return copy if copy.is_file() else None
+        """The description this robot was derived from, where it is at hand
+        (``Library.description_file``)."""
+        return self.library.description_file
 
     @property
     def has_friction(self) -> bool:
         """Whether an actuator's friction dissipates energy (a free motion then loses it)."""
         return any(p.name.startswith(("fv_", "fc_")) for p in self.parameter_list)
 
-    @property
+    @cached_property
     def drive_train(self) -> DriveTrain:
         """The actuated joints' gears, rotors, friction and limits with the parameters in use
         (``model.drive``): what every consumer of the drive train reads."""
@@ -277,38 +167,28 @@ class Robot:
         return self.n_constraints > 0
 
     @property
-    def parameters(self) -> dict[str, float]:
-        """Name -> value (SI, the unit in ``parameter_list``) of every parameter, as used."""
-        return {par.name: float(v) for par, v in zip(self.parameter_list, self.p)}
+    def parameters(self) -> Parameters:
+        """Name -> value (SI, the unit in ``parameter_list``) of every parameter, as used: one
+        immutable, checked ``Parameters`` (a mapping; ``.vector`` in ``parameter_list``
+        order)."""
+        return self._parameters
+
+    @property
+    def parameter_list(self) -> tuple[Parameter, ...]:
+        """Every parameter: name, SI value as derived, unit and meaning."""
+        return self._parameters.entries
+
+    @property
+    def p(self) -> np.ndarray:
+        """The parameter values the compiled functions use (SI, ``parameter_list`` order),
+        read-only: ``with_parameters`` makes a robot with others."""
+        return self._parameters.vector
 
     def casadi_function(self, quantity: str):
-        """One of the robot's functions as a ``casadi.Function`` (saved at derive time with
-        ``Function.save``), for ``casadi.Opti``, integrators or your own graphs: no SymPy and no
-        compiler needed. Symbolic (``MX``/``SX``) or numeric inputs, one sample as columns.
-
-        Parameters
-        ----------
-        quantity : str
-            A key of ``library.manifest["functions"]``: ``"mass_matrix"`` (q, p) -> M (n, n),
-            ``"bias"`` (q, qd, p) -> h (n,), ``"constraint"`` (q, p) -> Phi (m,) in m,
-            ``"inverse_dynamics"``, ``"task"``, ... Inputs are q (n,) in rad or m, qd in rad/s
-            or m/s, qdd in rad/s^2 or m/s^2, and p (n_p,) the parameter vector (SI, ``self.p``).
-
-        Returns
-        -------
-        casadi.Function
-        """
-        import casadi as ca
-
-        functions = self.library.manifest["functions"]
-        if quantity not in functions:
-            raise InputError(f"{self.name} has no function {quantity!r}; it has: "
-                             f"{', '.join(functions)}")
-        saved = functions[quantity].get("casadi")
-        if saved is None:
-            raise InputError(f"{self.library.folder} was derived before functions were saved "
-                             "for CasADi: derive it again (`make derive`, or planar-sym derive)")
-        return ca.Function.load(str(self.library.folder / saved))
+        """One of the robot's functions as a ``casadi.Function`` (``Library.casadi_function``:
+        for ``casadi.Opti``, integrators or your own graphs; inputs q, qd, ... and the
+        parameter vector ``p``, one sample as columns)."""
+        return self.library.casadi_function(quantity)
 
     def with_parameters(self, **values: float) -> Robot:
         """A copy with some parameters changed (SI units), no re-derivation needed.
@@ -328,19 +208,15 @@ class Robot:
         Robot
             The same compiled code with the new parameter vector ``p``.
         """
-        names = [par.name for par in self.parameter_list]
-        p = self.p.copy()
-        for k, v in values.items():
-            if k not in names:
-                raise InputError(f"unknown parameter {k!r} of {self.name}; known: "
-                                 f"{', '.join(names)}")
-            try:
-                p[names.index(k)] = float(v)
-            except (TypeError, ValueError, OverflowError):
-                raise InputError(f"parameter {k} must be a number (got {v!r})") from None
-            if not np.isfinite(p[names.index(k)]):
-                raise InputError(f"{self.name}: parameter {k} must be finite (got {v!r})")
-        return Robot(self.name, self.library, p, exact=self.exact)
+        return self.with_values(self._parameters.replace(**values))
+
+    def with_values(self, parameters: Parameters) -> Robot:
+        """The same compiled code with ``parameters`` (made from this robot's own by
+        ``Parameters.replace`` or ``with_vector``, so already checked)."""
+        if parameters.entries != self._parameters.entries:
+            raise InputError(f"{self.name}: these parameters belong to another robot "
+                             f"({parameters.owner})")
+        return Robot(self.name, self.library, parameters, exact=self.exact)
 
     # -- evaluation --------------------------------------------------------------------------
     def _call(self, quantity: str, **arrays) -> tuple[dict[str, np.ndarray], bool]:
@@ -421,117 +297,6 @@ class Robot:
                 "there is no torque to return there; simulate it under the actuated joints' "
                 "torques (planar_sym.simulate) or mark the joint actuated")
 
-    def closed_chain_inverse_dynamics(self, q, qd, qdd, t=None) -> tuple[np.ndarray, np.ndarray]:
-        """Actuated torques (N, actuated) in N*m and cut-joint forces lambda (N, 2 * loops) in N.
-
-        q, qd, qdd: every coordinate, on the loops (from inverse_kinematics or
-        motion.closure.from_actuated). Convention: M qdd + h = S^T tau + Phi_q^T lambda, solved
-        in one generated function, which also returns the loop residuals; a sample off the
-        loops (``LOOP_TOL_M``, see ``check_on_loops``) raises InputError, and a pose where the
-        passive-joint constraint Jacobian Phi_p is singular (1-norm condition number above
-        COND_LIMIT) raises WorkspaceError, each naming the sample (and the time ``t``, s).
-
-        Parameters
-        ----------
-        q, qd, qdd : ndarray, shape (N, n) or (n,)
-            Every coordinate (rad; m at a slider), its rate (rad/s) and acceleration
-            (rad/s^2), passive joints included.
-        t : ndarray, shape (N,), optional
-            Times (s), only to name the time of a refused sample.
-
-        Returns
-        -------
-        tau : ndarray, shape (N, actuated)
-            Torques at the actuated coordinates (N*m; N at a slider), in ``actuated`` order.
-        lam : ndarray, shape (N, 2 * loops)
-            Force (N, world x and y per cut joint, in ``loops`` order) the cut joint's child
-            body exerts on its parent body.
-        """
-        if not self.is_closed_chain:
-            raise InputError(f"{self.name} is not a closed chain: use inverse_dynamics")
-        q, qd, qdd = (as_samples(k, a, self.n, times=t) for k, a in (("q", q), ("qd", qd),
-                                                                       ("qdd", qdd)))
-        out = self._closed_inverse_dynamics(q, qd, qdd)
-        tau, lam, cond, phi, phi_v, phi_a = (np.asarray(a).reshape(len(q), -1) for a in out)
-        self.check_on_loops(phi, phi_v, phi_a, qd, qdd, t)
-        self.refuse_singular(cond[:, 0], t)
-        return tau, lam
-
-    def refuse_singular(self, cond: np.ndarray, t=None) -> None:
-        """Refuse the first sample whose passive-joint constraint Jacobian Phi_p has a 1-norm
-        condition number ``cond`` above COND_LIMIT (or not finite), naming it.
-
-        Parameters
-        ----------
-        cond : ndarray, shape (N,)
-            Condition numbers (dimensionless), one per sample.
-        t : ndarray, shape (N,), optional
-            Times (s), to name the time of the sample refused.
-
-        Raises
-        ------
-        WorkspaceError
-            At the first singular sample.
-        """
-        bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
-        if bad.any():
-            k = int(np.argmax(bad))
-            raise WorkspaceError(f"{self.name}: singular pose at {_when(t, k)}: the passive-joint "
-                                 f"constraint Jacobian Phi_p (which the actuation matrix "
-                                 f"[S^T Phi_q^T] needs) has 1-norm condition number "
-                                 f"{cond[k]:.3g} > {COND_LIMIT:g}")
-
-    def check_on_loops(self, phi, phi_v, phi_a, qd, qdd, t=None) -> None:
-        """Refuse samples off the loop constraints, naming the first and its residual.
-
-        .. code:: text
-
-            |Phi|                  <= LOOP_TOL_M                              (m)
-            |Phi_q qd|             <= LOOP_TOL_M (1 + max|qd|)                (m/s)
-            |Phi_q qdd - gamma|    <= LOOP_TOL_M (1 + max|qd|^2 + max|qdd|)   (m/s^2)
-
-        (rates in rad/s, accelerations in rad/s^2: the allowance grows with the terms' size)
-
-        Parameters
-        ----------
-        phi, phi_v, phi_a : ndarray, shape (N, 2 * loops)
-            The residuals Phi (m), Phi_q qd (m/s) and Phi_q qdd - gamma (m/s^2).
-        qd, qdd : ndarray, shape (N, n)
-            Rates (rad/s) and accelerations (rad/s^2), which scale the allowances.
-        t : ndarray, shape (N,), optional
-            Times (s), to name the time of the sample refused.
-
-        Raises
-        ------
-        InputError
-            At the first sample off the loops, naming the residual and the cut joint.
-        """
-        if all(r.size == 0 or max(r.max(), -r.min()) <= LOOP_TOL_M for r in (phi, phi_v, phi_a)):
-            return  # every sample within the smallest allowance: one pass per array, no rows
-        speed = np.max(np.abs(qd), axis=1)
-        limits = {"Phi (m)": (phi, LOOP_TOL_M * np.ones(len(phi))),
-                  "Phi_q qd (m/s)": (phi_v, LOOP_TOL_M * (1 + speed)),
-                  "Phi_q qdd - gamma (m/s^2)": (
-                      phi_a, LOOP_TOL_M * (1 + speed**2 + np.max(np.abs(qdd), axis=1)))}
-        for what, (residual, limit) in limits.items():
-            worst = np.max(np.abs(residual), axis=1)
-            bad = ~(worst <= limit)
-            if bad.any():
-                k = int(np.argmax(bad))
-                cut = self.loops[int(np.argmax(np.abs(residual[k]))) // 2]
-                raise InputError(
-                    f"{self.name}: sample {k}{f' (t = {t[k]:.6g} s)' if t is not None else ''} "
-                    f"is off the loop constraints: |{what.split(' (')[0]}| = {worst[k]:.3g} "
-                    f"{what.split('(')[1][:-1]} at cut joint {cut} (limit {limit[k]:.3g}); "
-                    "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)")
-
-    def _closed_inverse_dynamics(self, q, qd, qdd):
-        """The fused generated function's outputs (exact path): tau, lambda, cond and the loop
-        residuals Phi, Phi_q qd, Phi_q qdd - gamma."""
-        r = self._fns["closed_inverse_dynamics"](len(q), {"q": q, "qd": qd, "qdd": qdd,
-                                                          "p": self.p})
-        return tuple(r[k] for k in ("tau", "lambda", "cond", "phi", "phi_v", "phi_a"))
-
     def forward_dynamics(self, q, qd, tau) -> np.ndarray:
         """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2.
 
@@ -606,21 +371,3 @@ class Robot:
         r, s = self._call("body_motion", q=q, qd=qd, qdd=qdd)
         return tuple(self._out(r[k], s)  # type: ignore[return-value]
                      for k in ("accelerations", "cg", "joint_points"))
-
-    def constraint(self, q) -> np.ndarray:
-        """Loop-closure residual Phi(q) (m), shape (N, 2 * loops)."""
-        r, s = self._call("constraint", q=q)
-        return self._out(r["phi"], s)
-
-    def constraint_jacobian(self, q) -> np.ndarray:
-        """Loop-closure Jacobian Phi_q = dPhi/dq (m/rad; m/m at a slider), shape
-        (N, 2 * loops, n)."""
-        r, s = self._call("constraint_jacobian", q=q)
-        return self._out(r["phi_q"], s)
-
-    def constraint_bias(self, q, qd) -> np.ndarray:
-        """gamma = -(Phi_q qd)_q qd, so that Phi_q qdd = gamma: shape (N, 2 * loops), m/s^2
-        (``q`` in rad, ``qd`` in rad/s, each (N, n))."""
-        r, s = self._call("constraint_bias", q=q, qd=qd)
-        return self._out(r["gamma"], s)
-

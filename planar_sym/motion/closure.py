@@ -10,8 +10,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, WorkspaceError
+from ..model.arrays import as_samples
 from ..model.library import SingleCall
-from ..model.robot import COND_LIMIT, Robot, as_samples
+from ..model.loops import COND_LIMIT
+from ..model.robot import Robot
 from .profiles import JointTrajectory
 
 #: Newton on Phi(q) = 0 stops below this residual (m); far under the 1e-9 m the tests demand.

@@ -16,7 +16,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..model.robot import COND_LIMIT, Robot, as_samples
+from ..model.arrays import as_samples
+from ..model.loops import COND_LIMIT
+from ..model.robot import Robot
 from . import newton
 from .failures import Failures
 from .profiles import JointTrajectory, Trajectory

@@ -22,8 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import WorkspaceError
-from ..model.library import load_helper
-from ..model.robot import COND_LIMIT, Robot, as_vector
+from ..model.arrays import as_vector
+from ..model.compile import load_helper
+from ..model.loops import COND_LIMIT
+from ..model.robot import Robot
 from .failures import Failures
 
 #: converged when |F|_inf <= NEWTON_TOL * (1 + |x*|_inf) (m, rad): a few hundred times the

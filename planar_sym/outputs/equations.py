@@ -17,7 +17,7 @@ import re
 from dataclasses import dataclass
 
 from ..errors import InputError, LibraryError
-from ..model.library import read_manifest
+from ..model.folders import read_manifest
 from ..model.locate import locate
 
 #: output format -> generated file

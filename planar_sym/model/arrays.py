@@ -1,0 +1,65 @@
+"""Per-sample input arrays checked at the door: shape, real, finite, the bad sample named.
+
+Every runtime function that takes q, qd, qdd or tau passes them through ``as_samples`` (a
+trajectory) or ``as_vector`` (one state), so a wrong shape or a NaN is refused with the array's
+name, the sample and its time before any compiled code sees it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+
+def when(t, k: int) -> str:
+    """``"t = 0.25 s (sample 5)"``, or ``"sample 5"`` without times: how a refusal names a
+    sample."""
+    return f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
+
+
+def as_vector(name: str, a, width: int) -> np.ndarray:
+    """``a`` as one finite float64 vector of ``width`` values: (width,) or (1, width) only,
+    never the first row of several (a second initial state is a mistake to report).
+
+    Units are the caller's (the values are not converted: SI throughout the package); a bad
+    shape or a non-finite value raises InputError naming ``name``. Returns shape (width,).
+    """
+    arr = as_samples(name, a, width)
+    if len(arr) != 1:
+        raise InputError(f"{name} must be one vector of {width} values, got {len(arr)} rows "
+                         f"(shape {np.shape(a)})")
+    return arr[0].copy()
+
+
+def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> np.ndarray:
+    """``a`` as a C-contiguous float64 (N, width) array; names the first bad sample.
+
+    ``a`` is (N, width) or (width,) (one sample); its values are kept as given (SI
+    throughout the package, not converted). ``times`` (N,), in s, lets the error name the
+    time of a non-finite sample too.
+    """
+    try:
+        raw = np.asarray(a)
+        complex_ = np.iscomplexobj(raw)
+        arr = raw.astype(np.float64, copy=False) if not complex_ else raw
+    except (TypeError, ValueError, OverflowError) as exc:
+        raise InputError(f"{name} must be an array of numbers of shape (N, {width}) or "
+                         f"({width},): {exc}") from None
+    if complex_:
+        raise InputError(f"{name} must be real, got complex values")
+    if arr.ndim == 1:
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] != width:
+        raise InputError(f"{name} must have shape (N, {width}) or ({width},), "
+                         f"got {np.shape(a)}")
+    # a finite sum means every entry is finite (one pass, no mask); an inf or NaN sum may be
+    # an overflow of finite values, so only then is the mask built
+    with np.errstate(over="ignore", invalid="ignore"):  # the fallback below decides
+        total = arr.sum()
+    if not np.isfinite(total) and (bad := ~np.isfinite(arr)).any():
+        k, col = np.argwhere(bad)[0]
+        when_ = f" (t = {times[k]:.6g} s)" if times is not None and k < len(times) else ""
+        raise InputError(f"{name}[{k}, {col}] is {arr[k, col]} at sample {k}{when_}: "
+                         "inputs must be finite")
+    return np.ascontiguousarray(arr)

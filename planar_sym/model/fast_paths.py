@@ -1,0 +1,51 @@
+"""The hot methods of a Robot bound to C-level callers of the vectorised loops: one compiled
+call per batch with no Python frame in between (``_fastcall.c``).
+
+Same algorithm as the exact per-sample CasADi functions, compiled with -ffast-math: agrees to
+~1e-15 relative (tested to 1e-12). Each caller reads the robot's parameter vector in place, so
+a robot's vector is never changed after binding (``Parameters.vector`` is read-only).
+"""
+
+from __future__ import annotations
+
+from ..errors import InputError
+from .compile import fastcall
+
+#: output kind of the manifest -> the caller's shape code
+_KINDS = {"scalar": 0, "vector": 1, "matrix": 2}
+
+
+def bind_fast_paths(robot) -> None:
+    """Replace ``robot``'s hot methods by callers of the generated loops, where its library
+    has them (a folder derived before a loop existed keeps the Python method)."""
+    fast = fastcall()
+    if fast is None or robot.library.simd is None:
+        return
+    methods = {"mass_matrix": "mass_matrix", "bias": "bias", "gravity": "gravity",
+               "tree_inverse_dynamics": "inverse_dynamics", "energy": "energy"}
+    if not robot.is_closed_chain:
+        methods.update(forward_dynamics="forward_dynamics")
+        if len(robot.actuated) == robot.n:  # else the method refuses (passive joints)
+            methods.update(inverse_dynamics="inverse_dynamics")
+    else:
+        methods.update(constraint="constraint", constraint_jacobian="constraint_jacobian",
+                       constraint_bias="constraint_bias",
+                       _closed_inverse_dynamics="closed_inverse_dynamics")
+    functions = robot.library.manifest["functions"]
+    if "body_motion" in functions:  # folders derived before lack it
+        methods.update(body_motion="body_motion")
+    for attr, quantity in methods.items():
+        spec = functions[quantity]
+        if "loop" not in spec:  # derive makes loops only for these (codegen.LOOPED)
+            continue
+        ins = [(name, size) for name, size in spec["inputs"]]
+        names = tuple(name for name, _ in ins if name != "p")
+        method = getattr(type(robot), attr, None)
+        caller = fast.make(
+            robot.library.loop_address(quantity),
+            tuple(size for name, size in ins if name != "p"),
+            [name for name, _ in ins].index("p"),
+            tuple((rows, cols, _KINDS[kind]) for _, rows, cols, kind in spec["outputs"]),
+            robot.p, InputError, names, method.__doc__ if method is not None else spec["doc"])
+        setattr(robot, attr, caller)  # instance attribute: no Python frame per call
+

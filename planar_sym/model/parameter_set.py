@@ -1,0 +1,152 @@
+"""A robot's parameters as one immutable value: every name with its SI value, unit and meaning,
+checked once by the description's rules (``model.parameters``) whichever route changed them.
+
+``with_parameters``, a study's ``[parameters]``, ``[control.plant]``, ``move --set`` and a
+sweep's designs all make a new ``Parameters`` through ``replace`` (or ``with_vector``), so one
+rule and one message hold on every route. It reads as a mapping name -> value (SI), and its
+``vector`` (read-only) is what the compiled functions take.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .arrays import as_samples
+from .parameters import problems
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One physical parameter of a robot, as its generated manifest lists it.
+
+    Attributes
+    ----------
+    name : str
+        Its name in ``Robot.parameters`` and ``with_parameters`` (``m_link1``, ``izz_link1``,
+        ``g``, ...).
+    value : float
+        The value the robot was derived with, in SI (``unit``).
+    unit : str
+        Its SI unit: ``"kg"``, ``"m"``, ``"kg*m^2"``, ``"m/s^2"``, ...
+    meaning : str
+        What it is, in words ("mass of link1").
+    """
+
+    name: str
+    value: float
+    unit: str
+    meaning: str
+
+
+class Parameters(Mapping):
+    """Name -> SI value of every parameter of one robot, immutable and checked.
+
+    Parameters
+    ----------
+    entries : tuple of Parameter
+        The parameters as derived: names, derived values, units and meanings, in the order of
+        the compiled functions' parameter vector.
+    vector : array_like, shape (len(entries),), optional
+        The values in use (SI); default the derived ones (which passed the description's checks
+        at derive time, so they are not checked again).
+    bodies : tuple of str
+        The robot's moving bodies, which the inertial rules read (``m_<body>``, ...).
+    owner : str
+        What the values belong to (the robot's name), at the head of a refusal.
+
+    Attributes
+    ----------
+    entries : tuple of Parameter
+    vector : ndarray, shape (len(entries),)
+        The values (SI), read-only: the array every compiled call reads.
+    bodies : tuple of str
+    """
+
+    __slots__ = ("_index", "bodies", "entries", "owner", "vector")
+
+    def __init__(self, entries: tuple[Parameter, ...], vector=None, *,
+                 bodies: tuple[str, ...] = (), owner: str = ""):
+        self.entries = tuple(entries)
+        self.bodies = tuple(bodies)
+        self.owner = owner
+        self._index = {p.name: k for k, p in enumerate(self.entries)}
+        derived = vector is None
+        if derived:
+            vector = [p.value for p in self.entries]
+        elif np.ndim(vector) != 1:
+            raise InputError(f"parameters must be a vector of {len(self.entries)} values "
+                             f"(got shape {np.shape(vector)})")
+        v = as_samples("parameters", vector, len(self.entries))[0].copy()
+        v.flags.writeable = False  # a value: a change makes a new Parameters
+        self.vector = v
+        if not derived:
+            self.check()
+
+    # -- the mapping ---------------------------------------------------------------------------
+    def __getitem__(self, name: str) -> float:
+        return float(self.vector[self._index[name]])
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._index)
+
+    def __len__(self) -> int:
+        return len(self.entries)
+
+    def __repr__(self) -> str:
+        return f"Parameters({self.owner}: " + ", ".join(
+            f"{p.name}={v:.6g} {p.unit}" for p, v in zip(self.entries, self.vector)) + ")"
+
+    # -- checks and changes --------------------------------------------------------------------
+    def unit(self, name: str) -> str:
+        """The SI unit of parameter ``name`` (``"kg"``, ``"m"``, ...)."""
+        return self.entries[self._index[name]].unit
+
+    def check(self, where: str = "") -> None:
+        """Raise InputError naming every value the description's rules refuse (finite; masses
+        > 0; plausible inertias and gravity; the drive train's ratios, rotors and friction),
+        after ``where`` (a file and table) or the owner."""
+        found = problems(dict(self.items()), self.bodies)
+        if found:
+            raise InputError(f"{where or self.owner}: " + "; ".join(found))
+
+    def replace(self, where: str = "", **values: float) -> Parameters:
+        """A new Parameters with ``values`` (name -> SI value) changed, checked: an unknown
+        name, a value that is not a finite number or one a rule refuses raises InputError
+        (after ``where``, the file and table the values came from, where given)."""
+        p = self.vector.copy()
+        head = f"{where}: " if where else ""
+        for name, value in values.items():
+            if name not in self._index:
+                raise InputError(f"{head}unknown parameter {name!r} of {self.owner}; known: "
+                                 f"{', '.join(self._index)}")
+            try:
+                p[self._index[name]] = float(value)
+            except (TypeError, ValueError, OverflowError):
+                raise InputError(f"{head}parameter {name} must be a number (got "
+                                 f"{value!r})") from None
+            if not np.isfinite(p[self._index[name]]):
+                raise InputError(f"{head}{self.owner}: parameter {name} must be finite (got "
+                                 f"{value!r})")
+        out = Parameters(self.entries, bodies=self.bodies, owner=self.owner)
+        out.vector = _frozen(p)
+        out.check(where)
+        return out
+
+    def with_vector(self, vector, *, checked: bool = False) -> Parameters:
+        """A new Parameters with every value from ``vector`` (SI, in ``entries`` order),
+        checked by the rules unless ``checked`` says the caller already did (a sweep checks
+        its designs' columns at once with ``model.parameters.failing``, the same rules)."""
+        if not checked:
+            return Parameters(self.entries, vector, bodies=self.bodies, owner=self.owner)
+        out = Parameters(self.entries, bodies=self.bodies, owner=self.owner)
+        out.vector = _frozen(as_samples("parameters", vector, len(self.entries))[0].copy())
+        return out
+
+
+def _frozen(v: np.ndarray) -> np.ndarray:
+    v.flags.writeable = False
+    return v
