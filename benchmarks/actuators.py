@@ -139,8 +139,9 @@ def _compile(folder: Path, rounds: int, keep: Path):
     """A timed forced ``build`` and ``build_simd`` of a derived folder into a fresh cache; the
     last of ``rounds`` calls builds into ``keep`` (then loading from it compiles nothing)."""
     from planar_sym.model import compile as library
+    from planar_sym.model.folders import read_manifest
 
-    manifest = library.read_manifest(folder)
+    manifest = read_manifest(folder)
     calls = []
 
     def run():

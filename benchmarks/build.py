@@ -51,9 +51,10 @@ def _compile(robot: str, flavour: str):
     """A timed build of one flavour ("exact": ``build``; "simd": ``build_simd`` where the
     library and the robot have one, else None) into a fresh cache, and its source size."""
     from planar_sym.model import compile as library
+    from planar_sym.model.folders import find_generated, read_manifest
 
-    folder = library.find_generated(robot)
-    manifest = library.read_manifest(folder)
+    folder = find_generated(robot)
+    manifest = read_manifest(folder)
     builder = library.build if flavour == "exact" else getattr(library, "build_simd", None)
     src = folder / (f"{robot}.c" if flavour == "exact" else f"{robot}_simd.c")
     if builder is None or not src.exists():

@@ -1,4 +1,7 @@
 """Section 5: closed-loop control, the compiled loop against a Python controller.
+Here: the timing rounds (the compiled loop, its peers, the free run) and the report
+section; the settings, problems and the compiled loop's runs are in ``control_problem.py``,
+the SciPy and MuJoCo baselines (the controller in Python) in ``control_peers.py``.
 
 Measured: wall time of a whole tracking run (5 s, states at 501 evenly spaced times) of
 ``planar_sym.simulate_controlled`` (``dynamics.engine``): the C Dormand-Prince 5(4) evaluating the controller
@@ -41,387 +44,44 @@ method. Baselines, each timed in the same interleaved rounds as the compiled loo
 
 from __future__ import annotations
 
-import bisect
 import math
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
-from planar_sym.model.library import SingleCall
-
 from . import Config
+from .control_peers import MujocoPlant, PyController, mujoco_run, scipy_run
+from .control_problem import (
+    ATOL,
+    CALLBACK,
+    FIXED_S,
+    GATE_REF,
+    GATE_STATE,
+    GATE_TORQUE,
+    LAW_NAME,
+    LAWS,
+    LOOP,
+    LOOSE,
+    OURS,
+    REF_ATOL,
+    REF_RTOL,
+    RTOL,
+    SCIPY,
+    STUDIES,
+    TARGET_FREE,
+    TARGET_SCIPY,
+    Problem,
+    Settings,
+    load_problem,
+    make_controller,
+    ours,
+    settings,
+    short_run,
+)
 from .forward import level
 from .inverse import rel_err
 from .report import Check, Section, Table
 from .timing import Ratio, Stats, _block, calibrate, fmt_time, interleaved, ratio
-
-STUDIES = (("S3", "serial_2dof_cartesian_move"), ("S5", "five_bar_type1_move_x"))
-LAWS = ("pd", "computed_torque")
-LAW_NAME = {"pd": "PD + gravity", "computed_torque": "computed torque"}
-BANDWIDTH_HZ = 5.0
-RTOL, ATOL = 1e-10, 1e-12
-REF_RTOL, REF_ATOL = 1e-13, 1e-14
-OUT_DT = 0.01  # s between output samples
-FIXED_S = 1e-3  # a run this short costs what a call costs besides its steps
-TARGET_SCIPY = 30.0  # (a): the compiled loop at least this many times faster
-TARGET_FREE = 2.0  # (c): a controlled run at most this many times the free run
-LOOSE = 1e-5  # rad: the second accuracy level of (b)
-GATE_STATE = 1e-7  # SciPy's final state against the compiled loop's
-GATE_REF = 1e-9  # SciPy's whole run against the rtol-1e-13 reference
-GATE_TORQUE = 1e-9  # the Python controller's torques against the compiled controller's
-GATE_MODEL = 1e-9  # MuJoCo's dynamics against planar_sym's
-MJ_SOLIMP = (0.9999, 0.9999, 0.001)
-OURS = "planar_sym `simulate_controlled` (C loop)"
-SCIPY = "SciPy DOP853 + Python controller"
-LOOP = "MuJoCo RK4, controller in a Python loop around `mj_step`"
-CALLBACK = "MuJoCo RK4, controller as `mjcb_control` (every RK4 stage)"
-
-
-@dataclass(frozen=True)
-class Settings:
-    t_end: float
-    repeats: int  # interleaved rounds of (a) and (c)
-    mj_repeats: int  # rounds of the work-precision runs of (b)
-    ours_rtols: tuple[float, ...]
-    loop_dts: dict[str, tuple[float, ...]]
-    cb_dts: dict[str, tuple[float, ...]]
-    min_block_s: float
-
-
-def settings(cfg: Config) -> Settings:
-    if cfg.quick:
-        return Settings(1.0, 1, 1, (1e-6, RTOL), {"S3": (1e-3,), "S5": (1e-3,)},
-                        {"S3": (1e-3,), "S5": (1e-3,)}, cfg.min_block_s)
-    return Settings(5.0, cfg.sim_repeats, min(cfg.sim_repeats, 3), (1e-6, 1e-8, RTOL),
-                    {"S3": (1e-3, 5e-4, 2e-4), "S5": (1e-3, 5e-4)},
-                    {"S3": (2e-3, 1e-3, 5e-4, 4e-4), "S5": (1e-3, 5e-4)}, cfg.min_block_s)
-
-
-# -- the problem ---------------------------------------------------------------------------------
-
-@dataclass
-class Problem:
-    label: str
-    study: str
-    robot: object
-    ref: object  # control.signals.Signal over the actuated coordinates
-    q0: np.ndarray
-    qd0: np.ndarray
-    t: np.ndarray
-    motion_s: float
-    build_reference: object  # () -> Signal: what from_motion costs (timed in (c)'s rounds)
-
-    @property
-    def t_end(self) -> float:
-        return float(self.t[-1])
-
-
-def load_problem(label: str, study: str, t_end: float) -> Problem:
-    from planar_sym.dynamics.events import actuator_events
-    from planar_sym.motion.signals import from_motion
-    from planar_sym.study.motion import joint_motion
-    from planar_sym.study.run import load_study, robot_of
-
-    st = load_study(study)
-    robot = robot_of(st)
-    # what the Python baselines model of the compiled controller: no friction, no saturation
-    assert not robot.has_friction and np.all(np.isinf(actuator_events(robot, "continue")[1]))
-    jt, _ = joint_motion(st, robot)
-    act = list(robot.actuated)
-
-    def build():
-        return from_motion(jt.t_s, jt.q[:, act], jt.qd[:, act], jt.qdd[:, act])
-
-    ref = build().hold_until(t_end)
-    t = np.linspace(0.0, t_end, round(t_end / OUT_DT) + 1)
-    return Problem(label, study, robot, ref, jt.q[0].copy(), jt.qd[0].copy(), t,
-                   float(jt.t_s[-1]), build)
-
-
-def make_controller(p: Problem, law: str):
-    from planar_sym.control import controller
-    from planar_sym.study.control_run import effective_inertia
-
-    w = 2.0 * np.pi * BANDWIDTH_HZ
-    na = len(p.robot.actuated)
-    if law == "pd":
-        inertia = effective_inertia(p.robot, p.q0)
-        return controller("pd", w * w * inertia, 2.0 * w * inertia, width=na)
-    return controller("computed_torque", w * w, 2.0 * w, width=na)
-
-
-def short_run(p: Problem, ctl):
-    """The same call over FIXED_S with two outputs: what a call costs besides its steps."""
-    from planar_sym.control import simulate_controlled
-
-    return simulate_controlled(p.robot, ctl, (0.0, FIXED_S), reference=p.ref, q0=p.q0,
-                               qd0=p.qd0, t_eval=[0.0, FIXED_S], rtol=RTOL, atol=ATOL)
-
-
-def ours(p: Problem, ctl, rtol: float = RTOL, atol: float = ATOL):
-    from planar_sym.control import simulate_controlled
-
-    return simulate_controlled(p.robot, ctl, (0.0, p.t_end), reference=p.ref, q0=p.q0,
-                               qd0=p.qd0, t_eval=p.t, rtol=rtol, atol=atol)
-
-
-# -- the controller in Python (for SciPy and MuJoCo) ---------------------------------------------
-
-class RefEval:
-    """A Signal's value, rate and acceleration at one time: the segment by bisection, then one
-    small matrix product with the powers of (t - T_k) (the same polynomials the C loop reads)."""
-
-    def __init__(self, sig):
-        c = sig.coefficients  # (segments, channels, degree + 1), ascending powers
-        j = np.arange(sig.degree + 1)
-        d1, d2 = np.zeros_like(c), np.zeros_like(c)
-        d1[..., :-1] = c[..., 1:] * j[1:]
-        d2[..., :-2] = c[..., 2:] * (j[2:] * (j[2:] - 1))
-        self.table = np.ascontiguousarray(np.concatenate([c, d1, d2], axis=1))
-        self.knots = sig.knots_s.tolist()
-        self.last = len(self.knots) - 2
-        self.ch = sig.channels
-        self.powers = j.astype(float)
-
-    def __call__(self, t: float):
-        k = min(max(bisect.bisect_right(self.knots, t) - 1, 0), self.last)
-        out = self.table[k] @ ((t - self.knots[k]) ** self.powers)
-        ch = self.ch
-        return out[:ch], out[ch:2 * ch], out[2 * ch:]
-
-
-class PyController:
-    """The compiled loop's control law in Python: the actuated torques at (t, q, qd).
-
-    Trees: PD tau = Kp e + Kd e' + g(q)_a; CT tau = ID(q, qd, qdd_r + Kd e' + Kp e)_a. Closed
-    chains: PD adds the closed-chain inverse dynamics at rest; CT completes the passive
-    accelerations from Phi_p qdd_p = gamma - Phi_a v (Phi_q and gamma may be passed in when
-    the caller has them already), then the closed-chain inverse dynamics."""
-
-    def __init__(self, robot, ctl, ref):
-        lib = robot.library.functions
-        self.n, self.m = robot.n, robot.n_constraints
-        self.act = list(robot.actuated)
-        self.pas = [i for i in range(self.n) if i not in self.act]
-        self.kp, self.kd = np.array(ctl.kp), np.array(ctl.kd)
-        self.is_pd = ctl.kind == "pd"
-        self.ref = RefEval(ref)
-        self.qdd = np.zeros(self.n)
-        self.zero = np.zeros(self.n)
-        if self.m:
-            self.cid = SingleCall(lib["closed_inverse_dynamics"], robot.p)
-            self.jac = SingleCall(lib["constraint_jacobian"], robot.p)
-            self.bias = SingleCall(lib["constraint_bias"], robot.p)
-        else:
-            self.grav = SingleCall(lib["gravity"], robot.p)
-            self.inv = SingleCall(lib["inverse_dynamics"], robot.p)
-
-    def __call__(self, t, q, qd, jac=None, gamma=None) -> np.ndarray:
-        act = self.act
-        qr, qdr, qddr = self.ref(t)
-        qa, qda = q[act], qd[act]
-        if self.is_pd:
-            fb = self.kp * (qr - qa) + self.kd * (qdr - qda)
-            if self.m:
-                return fb + self.cid(q, self.zero, self.zero)[0]
-            return fb + self.grav(q)[0][act]
-        v = qddr + self.kd * (qdr - qda) + self.kp * (qr - qa)
-        qdd = self.qdd
-        qdd[act] = v
-        if not self.m:
-            return self.inv(q, qd, qdd)[0][act]
-        if jac is None:  # CasADi's column-major (m x n)
-            jac = self.jac(q)[0].reshape(self.n, self.m).T
-            gamma = self.bias(q, qd)[0]
-        qdd[self.pas] = np.linalg.solve(jac[:, self.pas], gamma - jac[:, act] @ v)
-        return self.cid(q, qd, qdd)[0].copy()
-
-
-# -- (a) SciPy -----------------------------------------------------------------------------------
-
-def _segment_s() -> float:
-    """How often the compiled loop re-projects a closed chain (s)."""
-    from planar_sym.dynamics.segments import SEGMENT_S
-
-    return SEGMENT_S
-
-
-def scipy_run(p: Problem, ctl, rtol: float = RTOL, atol: float = ATOL):
-    """SciPy DOP853 with the controller in Python: (states (N, 2n + 2), RHS calls, max |Phi|)."""
-    from scipy.integrate import solve_ivp
-
-    from planar_sym.dynamics.forward_closed import project
-
-    robot = p.robot
-    n, m, act = robot.n, robot.n_constraints, list(robot.actuated)
-    lib = robot.library.functions
-    law = PyController(robot, ctl, p.ref)
-    count = [0]
-    y0 = np.concatenate([p.q0, p.qd0, [0.0, 0.0]])  # + actuator work, friction loss (none)
-
-    def solve(t0, t1, y, t_eval):
-        sol = solve_ivp(rhs, (t0, t1), y, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol)
-        if not sol.success:
-            raise RuntimeError(f"{p.label}: SciPy baseline failed: {sol.message}")
-        return sol.y.T
-
-    if not m:
-        fd = SingleCall(lib["forward_dynamics"], robot.p)
-        full = np.zeros(n)
-
-        def rhs(t, y):
-            count[0] += 1
-            q, qd = y[:n], y[n:2 * n]
-            tau = law(t, q, qd)
-            full[act] = tau
-            (qdd,) = fd(q, qd, full)
-            return np.concatenate([qd, qdd, (tau @ qd[act], 0.0)])
-
-        return solve(p.t[0], p.t[-1], y0, p.t), count[0], 0.0
-
-    terms = SingleCall(lib["constrained_terms"], robot.p)
-    kkt, b = np.zeros((n + m, n + m)), np.zeros(n + m)
-
-    def rhs(t, y):
-        count[0] += 1
-        q, qd = y[:n], y[n:2 * n]
-        mass, h, jac, gamma = terms(q, qd)
-        jac = jac.reshape(n, m).T
-        tau = law(t, q, qd, jac, gamma)  # plant = model here: its Phi_q and gamma serve both
-        kkt[:n, :n] = mass.reshape(n, n)
-        kkt[:n, n:] = -jac.T
-        kkt[n:, :n] = jac
-        b[:n] = -h
-        b[act] += tau
-        b[n:] = gamma
-        qdd = np.linalg.solve(kkt, b)[:n]
-        return np.concatenate([qd, qdd, (tau @ qd[act], 0.0)])
-
-    t, rows, drift, k, y = p.t, [y0], 0.0, 0, y0
-    segment_s = _segment_s()
-    while k < len(t) - 1:  # as the compiled loop: segments, projected at each end
-        end = min(max(int(np.searchsorted(t, t[k] + segment_s, side="right")) - 1, k + 1),
-                  len(t) - 1)
-        ys = solve(t[k], t[end], y, t[k:end + 1])
-        rows += list(ys[1:])
-        drift = max(drift, float(np.max(np.abs(robot.constraint(ys[1:, :n])))))
-        qp, qdp = project(robot, ys[-1, :n], ys[-1, n:2 * n])
-        y = np.concatenate([qp, qdp, ys[-1, 2 * n:]])
-        k = end
-    return np.array(rows), count[0], drift
-
-
-# -- (b) MuJoCo ----------------------------------------------------------------------------------
-
-class MujocoPlant:
-    def __init__(self, p: Problem):
-        from planar_sym.model import description
-
-        from .baselines import mujoco_model
-
-        closed = p.robot.is_closed_chain
-        self.model, self.data = mujoco_model.build(
-            description.load(p.robot.name), loops=closed, solimp=MJ_SOLIMP if closed else None)
-        n = p.robot.n
-        self.mass = np.zeros((n, n))
-        self.fill_mass = mujoco_model.mass_matrix_filler(self.model, self.data, self.mass)
-
-    def check(self, p: Problem, q: np.ndarray, qd: np.ndarray) -> list[Check]:
-        """MuJoCo's tree mass matrix and bias forces against planar_sym's at states (q, qd);
-        a closed chain's connect residual at the start."""
-        import mujoco
-
-        mm, md, robot, n = self.model, self.data, p.robot, p.robot.n
-        got = np.empty((len(q), n * n + n))
-        for k in range(len(q)):
-            md.qpos[:], md.qvel[:] = q[k], qd[k]
-            mujoco.mj_forward(mm, md)
-            self.fill_mass()
-            got[k, :n * n], got[k, n * n:] = self.mass.ravel(), md.qfrc_bias
-        want = np.hstack([robot.mass_matrix(q).reshape(len(q), n * n), robot.bias(q, qd)])
-        out = [Check(f"{p.label}: MuJoCo mass matrix and qfrc_bias vs planar_sym's M and h "
-                     f"({len(q)} states along the run)", rel_err(got, want), GATE_MODEL)]
-        if mm.neq:
-            md.qpos[:], md.qvel[:] = p.q0, p.qd0
-            mujoco.mj_forward(mm, md)
-            res = float(np.max(np.abs(md.efc_pos[:md.ne]))) if md.ne else math.inf
-            out.append(Check(f"{p.label}: MuJoCo connect sites of the cut joint coincide at the "
-                             "start (|residual| m, absolute)", res, GATE_MODEL))
-        return out
-
-
-def mujoco_run(plant: MujocoPlant, p: Problem, ctl, law: PyController, dt: float,
-               callback: bool):
-    """MuJoCo RK4 over the run in equal steps near ``dt``; q at the output times."""
-    import mujoco
-
-    mm, md = plant.model, plant.data
-    robot = p.robot
-    n, act = robot.n, list(robot.actuated)
-    steps = max(1, round(p.t_end / dt))
-    h = p.t_end / steps
-    every = round(OUT_DT / h)
-    assert abs(every * h - OUT_DT) < 1e-9 * OUT_DT, (dt, OUT_DT)
-    mm.opt.timestep = h
-    mm.opt.integrator = int(mujoco.mjtIntegrator.mjINT_RK4)
-    if mm.neq:  # the stiffest loop MuJoCo's default safety allows: time constant 2 steps
-        mm.eq_solref[:, 0] = 2.0 * h
-        mm.eq_solref[:, 1] = 1.0
-    mujoco.mj_resetData(mm, md)
-    md.qpos[:], md.qvel[:] = p.q0, p.qd0
-    out = np.empty((len(p.t), n))
-    out[0] = p.q0
-    qpos, qvel, frc = md.qpos, md.qvel, md.qfrc_applied
-    full = np.zeros(n)
-    if not robot.is_closed_chain and ctl.kind == "computed_torque":  # MuJoCo's own M, bias
-        kp, kd, ref, mass, fill, bias = (np.array(ctl.kp), np.array(ctl.kd), law.ref,
-                                         plant.mass, plant.fill_mass, md.qfrc_bias)
-
-        def control(t):
-            qr, qdr, qddr = ref(t)
-            fill()
-            frc[:] = mass @ (qddr + kd * (qdr - qvel) + kp * (qr - qpos)) + bias
-    else:
-        def control(t):
-            full[act] = law(t, qpos, qvel)
-            frc[:] = full
-    step = mujoco.mj_step
-    k = 1
-    if callback:
-        mujoco.set_mjcb_control(lambda m_, d_: control(d_.time))
-        try:
-            for i in range(1, steps + 1):
-                step(mm, md)
-                if i % every == 0:
-                    out[k] = qpos
-                    k += 1
-        finally:
-            mujoco.set_mjcb_control(None)
-    elif ctl.kind == "computed_torque" and not robot.is_closed_chain:
-        # M and bias need a forward pass at the step's start; then only the acceleration
-        # stage again (the applied force changed) and the RK4 stages: mj_step minus its
-        # repeated position and velocity stages
-        fwd, skip, rk4 = mujoco.mj_forward, mujoco.mj_forwardSkip, mujoco.mj_RungeKutta
-        vel = int(mujoco.mjtStage.mjSTAGE_VEL)
-        for i in range(1, steps + 1):
-            fwd(mm, md)
-            control(md.time)
-            skip(mm, md, vel, 0)
-            rk4(mm, md, 4)
-            if i % every == 0:
-                out[k] = qpos
-                k += 1
-    else:
-        for i in range(1, steps + 1):
-            control(md.time)
-            step(mm, md)
-            if i % every == 0:
-                out[k] = qpos
-                k += 1
-    assert k == len(p.t)
-    return out, steps, h
-
 
 # -- work-precision runs -------------------------------------------------------------------------
 

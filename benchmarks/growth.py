@@ -1,4 +1,6 @@
 """Section 3c: how the cost grows with the robot's size, from the description to a torque.
+Here: run timing against Pinocchio, growth fits, tables and the section; deriving,
+compiling and measuring the generated code of each robot are in ``growth_build.py``.
 
 Robots: the n-link pendulum of ``chains.py`` (every joint actuated) for the sizes of
 ``Config.growth_sizes`` (2 to 12 links), and the three-loop Jansen linkage
@@ -50,170 +52,28 @@ that growth and fits its exponents.
 
 from __future__ import annotations
 
-import json
 import math
-import os
-import re
 import shutil
 import statistics
-import subprocess
-import sys
 import tempfile
-import time
-from contextlib import contextmanager
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from . import Config
+from .growth_build import ROOT, Robot, _build_rounds, _code, _export_urdf, _robot
 from .inverse import GATE, rel_err, serial_states
 from .report import Check, Section, Table
 from .timing import Stats, _block, calibrate, fmt_ratio, fmt_time, ratio
 
-ROOT = Path(__file__).resolve().parent.parent
 JANSEN = ROOT / "examples" / "jansen_linkage.toml"
 MEMORY_TARGET_B = 2e9
 RATIO_TARGET = 10.0
-ROUTES = {"closed form": "CF", "algorithmic differentiation": "AD"}
-
-#: run in the compile subprocess: first use of the derived folder, then what its compilers took
-COMPILE = """
-import json, resource, sys, time
-from pathlib import Path
-t0 = time.perf_counter()
-from planar_sym.model.library import Library
-lib = Library(sys.argv[1], Path(sys.argv[2]))
-print(json.dumps({"library_s": time.perf_counter() - t0, "simd": lib.simd is not None,
-                  "maxrss_kib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss}))
-"""
 
 
 def target_s(n: int) -> float | None:
     """The derive + first compile target for a robot of n links (or coordinates)."""
     return 30.0 if n <= 8 else 60.0 if n <= 12 else None
-
-
-@dataclass
-class Robot:
-    """One robot's measurements (lists: one value per round)."""
-
-    label: str
-    n: int  # links (chains) or coordinates (Jansen)
-    chain: bool
-    derive_wall: list[float] = field(default_factory=list)
-    derive_own: list[float] = field(default_factory=list)
-    imports: list[float] = field(default_factory=list)
-    compile_wall: list[float] = field(default_factory=list)
-    compile_lib: list[float] = field(default_factory=list)
-    warm_wall: list[float] = field(default_factory=list)
-    maxrss_kib: list[int] = field(default_factory=list)
-    simd_built: bool = True
-    code: dict = field(default_factory=dict)
-    run: dict[str, Stats] = field(default_factory=dict)
-    pin: Stats | None = None
-    pin_ratio: Stats | None = None
-    pin_rnea: Stats | None = None  # rnea alone, inputs packed beforehand
-    pin_note: str = ""
-
-
-def _timed(cmd: list[str], env: dict | None = None, cwd: Path = ROOT):
-    """(wall time, finished process) of one subprocess; raises if it failed."""
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, check=False)
-    wall = time.perf_counter() - t0
-    if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(map(str, cmd))} failed ({proc.returncode}):\n"
-                           f"{proc.stderr[-3000:]}")
-    return wall, proc
-
-
-def _env(cache: Path) -> dict:
-    env = {**os.environ, "PLANAR_SYM_CACHE": str(cache), "PLANAR_SYM_PREBUILT": "0"}
-    env.pop("PLANAR_SYM_EXACT", None)
-    return env
-
-
-def _build_rounds(r: Robot, toml: Path, work: Path, repeats: int) -> tuple[Path, Path]:
-    """Derive and first-compile ``repeats`` times; returns round 0's folder and its cache."""
-    keep = None
-    for k in range(repeats):
-        out, cache = work / f"derived{k}", work / f"cache{k}"
-        imports = [sys.executable, "-c", "import sympy, casadi, derive.model, derive.codegen"]
-        # the baseline before the candidate in even rounds, after it in odd ones
-        if k % 2 == 0:
-            r.imports.append(_timed(imports)[0])
-        wall, proc = _timed([sys.executable, "-m", "derive", str(toml), "--out", str(out)])
-        if k % 2 == 1:
-            r.imports.append(_timed(imports)[0])
-        found = re.findall(r"derived (\S+) in ([0-9.]+) s", proc.stderr)
-        if len(found) != 1:
-            raise RuntimeError(f"no 'derived NAME in X s' line from derive:\n{proc.stderr}")
-        name = found[0][0]
-        r.derive_wall.append(wall)
-        r.derive_own.append(float(found[0][1]))
-        folder = out / name
-        cmd = [sys.executable, "-W", "ignore", "-c", COMPILE, name, str(folder)]
-        wall, proc = _timed(cmd, _env(cache))
-        info = json.loads(proc.stdout.strip().splitlines()[-1])
-        r.compile_wall.append(wall)
-        r.compile_lib.append(info["library_s"])
-        r.maxrss_kib.append(int(info["maxrss_kib"]))
-        r.simd_built = r.simd_built and info["simd"]
-        r.warm_wall.append(_timed(cmd, _env(cache))[0])
-        if keep is None:
-            keep = (folder, cache)
-        else:
-            shutil.rmtree(out, ignore_errors=True)
-            shutil.rmtree(cache, ignore_errors=True)
-    return keep
-
-
-def _code(folder: Path) -> dict:
-    from planar_sym.model.compile import exact_flags
-    from planar_sym.model.folders import read_manifest
-
-    m = read_manifest(folder)
-    name = m["robot"]
-    fns = m["functions"]
-    routes = [f.get("route", "?") for f in fns.values()]
-    eq = (folder / "equations.txt").read_text()
-    main = ("closed_inverse_dynamics" if m["constraints"] else "inverse_dynamics", "mass_matrix",
-            "forward_dynamics")
-    return {
-        "c": (folder / f"{name}.c").stat().st_size,
-        "simd": (folder / f"{name}_simd.c").stat().st_size
-        if (folder / f"{name}_simd.c").exists() else 0,
-        "ops": sum(f.get("operations", 0) for f in fns.values()),
-        "units": len(m.get("compile_units", {}).get("simd", [0])),
-        "flag": exact_flags(m)[0],
-        "cf": routes.count("closed form"), "ad": routes.count("algorithmic differentiation"),
-        "main": ", ".join(ROUTES.get(fns[q].get("route"), "?") if q in fns else "-"
-                          for q in main),
-        "eq": len(eq.encode()),
-        "eq_kind": "structure" if "structure" in eq else "closed forms",
-    }
-
-
-@contextmanager
-def _cache(path: Path):
-    old = os.environ.get("PLANAR_SYM_CACHE")
-    os.environ["PLANAR_SYM_CACHE"] = str(path)
-    try:
-        yield
-    finally:
-        if old is None:
-            del os.environ["PLANAR_SYM_CACHE"]
-        else:
-            os.environ["PLANAR_SYM_CACHE"] = old
-
-
-def _robot(name: str, folder: Path, cache: Path):
-    from planar_sym.model.library import Library
-    from planar_sym.model.robot import Robot as PsRobot
-
-    with _cache(cache):  # round 0's libraries: loaded, not compiled again
-        return PsRobot(name, Library(name, folder))
 
 
 def _jansen_states(robot, size: int, seed: int = 1):
@@ -278,14 +138,6 @@ def _time_run(r: Robot, robot, cfg: Config, sec: Section, urdf: Path | None, exe
     if pins:
         r.pin, r.pin_rnea = Stats(tuple(pins)), Stats(tuple(rneas))
         r.pin_ratio = ratio(r.pin, r.run["ID"])
-
-
-def _export_urdf(toml: Path, folder: Path, cache: Path, work: Path) -> Path:
-    shutil.copyfile(toml, folder / "description.toml")  # what export reads the bodies from
-    urdf = work / f"{folder.name}.urdf"
-    _timed([sys.executable, "-m", "planar_sym", "export", str(folder), "--format", "urdf",
-            "--out", str(urdf), "--quiet"], _env(cache))
-    return urdf
 
 
 def _pinocchio(cfg: Config):

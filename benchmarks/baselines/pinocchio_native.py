@@ -19,7 +19,7 @@ them an AVX-512 build frees the parser's vectors with Eigen's own aligned free a
 Needs a C++ compiler, the ``pin`` wheel (headers and libraries under ``cmeel.prefix``), Eigen
 headers (CasADi's bundled copy, else ``cmeel-eigen`` or the system's) and the urdfdom headers
 (``cmeel-urdfdom-headers``, which ``pin`` does not pull in). The executable is built once into
-the project's cache folder (``planar_sym.model.library.cache_dir()``), keyed by the source, the
+the project's cache folder (``planar_sym.model.folders.cache_dir()``), keyed by the source, the
 flags, the paths and the CPU.
 
 API::
