@@ -17,9 +17,9 @@ import pytest
 from conftest import TEST_ROBOTS
 
 from planar_sym.control import controller, from_motion, from_table, simulate_controlled
-from planar_sym.motion.signals import Signal
 from planar_sym.errors import InputError, WorkspaceError
 from planar_sym.model.locate import load
+from planar_sym.motion.signals import Signal
 from planar_sym.study import spec
 from planar_sym.study.checks import StudyError
 from planar_sym.study.motion import joint_motion

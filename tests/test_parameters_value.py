@@ -48,7 +48,7 @@ def test_parameters_are_a_read_only_mapping(arm):
 def test_a_changed_robot_computes_with_its_own_values(arm):
     """The fast callers of the new robot read its vector; the old robot keeps its values."""
     q = np.array([0.3, -0.7])
-    if set(("cgx_link1", "cgx_link2", "px_link1_CS2")) - set(arm.parameters):
+    if {"cgx_link1", "cgx_link2", "px_link1_CS2"} - set(arm.parameters):
         pytest.skip("the arm's parameter names changed")
     heavy = arm.with_parameters(m_link2=2.5, g=3.7)
     typed = {**arm.parameters, "m_link2": 2.5, "g": 3.7}  # what the user asked for
@@ -69,10 +69,11 @@ def test_every_route_refuses_with_the_same_rule(arm):
         vector = arm.p.copy()
         vector[k] = value
         messages = []
-        for route in (lambda: arm.with_parameters(**{name: value}),
-                      lambda: arm.parameters.replace(**{name: value}),
-                      lambda: arm.parameters.with_vector(vector),
-                      lambda: Robot(arm.name, arm.library, vector)):
+        routes = (lambda n=name, v=value: arm.with_parameters(**{n: v}),
+                  lambda n=name, v=value: arm.parameters.replace(**{n: v}),
+                  lambda p=vector: arm.parameters.with_vector(p),
+                  lambda p=vector: Robot(arm.name, arm.library, p))
+        for route in routes:
             with pytest.raises(InputError) as info:
                 route()
             messages.append(str(info.value).split(": ", 1)[1])
@@ -81,7 +82,7 @@ def test_every_route_refuses_with_the_same_rule(arm):
 
 
 def test_a_design_vector_and_a_pickle_keep_the_values(arm):
-    values = dict(m_link1=0.9, izz_link1=0.004)
+    values = {"m_link1": 0.9, "izz_link1": 0.004}
     changed = arm.with_parameters(**values)
     design = arm.with_values(arm.parameters.with_vector(changed.p, checked=True))
     back = pickle.loads(pickle.dumps(changed))

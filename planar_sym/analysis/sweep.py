@@ -49,7 +49,8 @@ import numpy as np
 from ..errors import InputError, PlanarSymError
 from ..model.robot import Robot
 from ..study import spec as specs
-from .designs import DesignSpace, unit_suffix
+from .designs import DesignSpace
+from .figures import named, parameter_figure
 from .sweep_figures import atlas_figures, run_figures, singular_designs, torque_figures
 from .sweep_motor import has_drives, motor_figures
 from .sweep_plant import ON, on_note, parameter_index, plant_designs, plant_overrides
@@ -72,7 +73,8 @@ class SweepResult:
     sampling, route, what was varied on which parameter set, failures). For a control study the
     varied columns are the controller's model's values (``m_link2_kg``) then the plant's
     (``plant_m_link2_kg``), and ``on`` says which of the two the designs changed ("both",
-    "model" or "plant"; "both" for any other study, which has one robot).
+    "model" or "plant"; "both" for any other study, which has one robot). ``info`` types every
+    column (``figures.Figure``: its unit, and the statistic and quantity it is of).
     """
 
     study: str
@@ -83,6 +85,7 @@ class SweepResult:
     route: str = ""
     note: str = ""
     on: str = "both"
+    info: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(next(iter(self.columns.values())))
@@ -245,7 +248,7 @@ class _Job:
 
 @dataclass
 class _Out:
-    figures: dict[str, np.ndarray]
+    figures: dict  # Figure -> (designs,) values
     failed: dict[int, str]
 
 
@@ -313,7 +316,7 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
             failed[job.start + k] = str(exc)
             motions.append(None)
     ok = [k for k, m in enumerate(motions) if m is not None]
-    figs: dict[str, np.ndarray] = {}
+    figs = {}
     if ok:
         q, qd, qdd = (np.ascontiguousarray(np.stack([motions[k][j] for k in ok]))
                       for j in range(3))
@@ -355,12 +358,14 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
            on: str, route: str, jobs: list[_Job], outs: list) -> SweepResult:
     D = len(space)
     columns = space.columns()
+    info = {f.name: f for f in map(parameter_figure, space.names, space.units)}
     if plant_P is not None:  # the plant's value of every varied parameter, beside the model's
         for name, unit in zip(space.names, space.units):
-            columns[f"plant_{name}_{unit_suffix(unit)}"] = plant_P[:, parameter_index(robot, name)]
+            f = parameter_figure(name, unit, "plant_")
+            columns[f.name], info[f.name] = plant_P[:, parameter_index(robot, name)], f
     varied = tuple(columns)
     failed: dict[int, str] = {}
-    figs: dict[str, np.ndarray] = {}
+    figs = {}
     lost = 0
     for job, out in zip(jobs, outs):
         sl = slice(job.start, job.start + len(job.P))
@@ -375,7 +380,8 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
     for k in failed:  # a failed design has no figures, whatever part of it was computed
         for v in figs.values():
             v[k] = np.nan
-    columns.update(figs)
+    values, kinds = named(figs)
+    columns.update(values)
     note = f"{D} designs ({space.sample}), {route}"
     if plant_P is not None:
         note += "; " + on_note(st, robot, space, plant_P, on)
@@ -387,5 +393,5 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
                       f"{failed[first]}); the other designs' figures are kept", RuntimeWarning,
                       stacklevel=3)
     return SweepResult(st.name, columns, varied, space.names, dict(sorted(failed.items())),
-                       route, note, on)
+                       route, note, on, {**info, **kinds})
 

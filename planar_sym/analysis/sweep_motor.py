@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..dynamics.series import coordinate_unit
 from ..model.robot import Robot
-from ..study.result import coordinate_column
 from ..study.sizing import RPM
+from .figures import Figure
 
 #: designs per numpy pass of the motor-side figures (their torques at every sample, designs x
 #: samples x coordinates): a few hundred keep a pass in cache
@@ -34,11 +35,17 @@ def gear_ratios(robot: Robot, P: np.ndarray) -> np.ndarray:
     return out
 
 
-def motor_columns(i: int) -> tuple[str, str, str, str]:
-    """The motor-side figure columns of coordinate ``i`` (0-based): peak and RMS motor torque
-    (N*m, also behind a slider's screw), peak motor speed (rpm), peak power (W)."""
-    return (f"peak_motor_tau{i + 1}_n_m", f"rms_motor_tau{i + 1}_n_m",
-            f"peak_motor_speed{i + 1}_rpm", f"peak_power{i + 1}_w")
+def motor_figure_keys(i: int) -> tuple[Figure, Figure, Figure, Figure]:
+    """The motor-side figures of coordinate ``i`` (0-based): peak and RMS motor torque
+    (N*m, also behind a slider's screw: ``peak_motor_tau<k>_n_m``), peak motor speed (rpm),
+    peak power (W)."""
+    return (Figure.of("peak", "motor_tau", "N*m", i), Figure.of("rms", "motor_tau", "N*m", i),
+            Figure.of("peak", "motor_speed", "rpm", i), Figure.of("peak", "power", "W", i))
+
+
+def peak_torque(robot: Robot, i: int) -> Figure:
+    """The figure of coordinate ``i``'s peak joint torque (N*m; N at a slider)."""
+    return Figure.of("peak", "tau", coordinate_unit("tau", robot.coordinate_units[i]), i)
 
 
 def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
@@ -55,7 +62,7 @@ def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
 
 
 def motor_figures(robot: Robot, fn, P: np.ndarray, motion: tuple, t: np.ndarray,
-                   joint: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+                   joint: dict[Figure, np.ndarray]) -> dict[Figure, np.ndarray]:
     """Motor-side figures of the designs ``P`` along ``motion`` (q, qd, qdd: (N, n) shared or
     (D, N, n) per design): the torques again at every sample, ``MOTOR_CHUNK`` designs at a
     time, for the trapezoidal RMS and the peak power |tau qd| (a per-sample product the C
@@ -80,8 +87,8 @@ def motor_figures(robot: Robot, fn, P: np.ndarray, motion: tuple, t: np.ndarray,
     speed = np.abs(qd[..., act]).max(axis=-2)  # (actuated,) shared, (D, actuated) per design
     figs = {}
     for k, i in enumerate(act):
-        peak_t, rms_t, peak_w, peak_p = motor_columns(i)
-        peak = joint["peak_" + coordinate_column("tau", i, robot.coordinate_units[i])]
+        peak_t, rms_t, peak_w, peak_p = motor_figure_keys(i)
+        peak = joint[peak_torque(robot, i)]
         figs[peak_t] = peak / ratios[:, k]
         figs[rms_t] = np.sqrt(ms[:, k]) / ratios[:, k]
         figs[peak_w] = speed[..., k] * ratios[:, k] * RPM

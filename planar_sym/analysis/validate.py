@@ -247,9 +247,10 @@ def free_motion(robot: Robot, seconds: float = 1.0):
 
 def check_energy(sim) -> Row:
     """(c) The free motion's relative energy drift (``Simulation.energy_drift``), or with
-    friction its energy balance E(t) - E(0) + F(t) = 0 (``ControlledRun.balance_residual``)."""
+    friction its energy balance E(t) - E(0) + F(t) = 0 (``Simulation.balance_residual``, a
+    controlled run's: it integrates the friction's work)."""
     peak = f"peak kinetic energy {np.max(sim.kinetic_j):.3g} J"
-    if hasattr(sim, "friction_j"):
+    if sim.friction_j is not None:
         return row(f"(c) energy balance with friction, free motion {sim.t_s[-1]:g} s",
                    sim.balance_residual, TOL_ENERGY,
                    f"relative; {peak}, friction work {sim.friction_j[-1]:.3g} J")

@@ -99,8 +99,8 @@ def report(done, name: str, quiet: bool) -> None:
         print(f"{name}: event: {event}", file=sys.stderr)
     if quiet:
         return
-    units = {c.split("_")[0]: ("N" if c.endswith("_n") else "N*m") for c in result.torques()}
-    peaks = ", ".join(f"{k} {v:.4g} {units[k]}" for k, v in result.peak_torques().items())
+    peaks = ", ".join(f"{k} {v:.4g} {unit}"
+                      for k, (v, unit) in result.peak_torques_with_units().items())
     extra = f" (peak |tau|: {peaks})" if peaks else ""
     solver = f" [{result.solver}]" if result.solver else ""
     print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}{solver}")

@@ -1,6 +1,6 @@
 """Named sample columns (name -> (N,) array, the unit in the name: ``t_s``, ``q1_rad``,
-``tau1_n_m``) as a pandas DataFrame or an NPZ file: shared by ``Simulation`` and the study
-``Result``.
+``tau1_n_m``) as a pandas DataFrame or an NPZ file: the output edge of ``Simulation`` and the
+study ``Result``, which hold typed ``series.Series`` and name them only here.
 
 NPZ layout: one array per column under its own name (``np.load(path)["q1_rad"]``), in column
 order, plus ``METADATA_KEY`` holding a JSON object as a 0-d unicode array (robot, study,
@@ -16,20 +16,18 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import atomic_files
+from .series import column_name, coordinate_unit
 
 #: the NPZ entry holding the metadata (JSON text)
 METADATA_KEY = "__metadata__"
-
-#: column suffixes of a coordinate by its unit: value, rate, acceleration, torque or force
-SUFFIXES = {"rad": ("rad", "rad_s", "rad_s2", "n_m"), "m": ("m", "m_s", "m_s2", "n")}
 
 
 def coordinate_column(kind: str, k: int, unit: str) -> str:
     """The column name of coordinate ``k`` (0-based) for ``kind`` ``q``, ``qd``, ``qdd`` or
     ``tau``, its unit in the name: ``q1_rad``, ``qd2_m_s``, ``tau1_n_m``, ``tau2_n`` (a
-    prismatic joint's force)."""
-    suffix = SUFFIXES[unit][("q", "qd", "qdd", "tau").index(kind)]
-    return f"{kind}{k + 1}_{suffix}"
+    prismatic joint's force). ``unit`` is the coordinate's: ``"rad"``, or ``"m"`` at a slider
+    (``series.Series.column`` of the same series)."""
+    return column_name(kind, coordinate_unit(kind, unit), k)
 
 
 def dataframe(columns: dict[str, np.ndarray], metadata: dict[str, str]):

@@ -1,17 +1,18 @@
 """A robot under control, simulated in C: the plant, the controller, the input tables and the
 events in one compiled loop (``_integrate.c``), no Python per step.
 
-``simulate_controlled`` is the entry point; ``ControlledRun`` its result. The controller's
-model is ``robot`` (its parameters are the nominal ones); ``plant`` is the robot that moves
-(the same description, perhaps other parameters: a model error). Closed chains run in
-segments re-projected onto the loops, as free simulations do (``forward_closed``).
+``simulate_controlled`` is the entry point; its result is a ``Simulation`` (``run_result``,
+also named ``ControlledRun``), the type an open-loop run has, with its control fields set. The
+controller's model is ``robot`` (its parameters are the nominal ones); ``plant`` is the robot
+that moves (the same description, perhaps other parameters: a model error). Closed chains run
+in segments re-projected onto the loops, as free simulations do (``forward_closed``).
 """
 
 from __future__ import annotations
 
 import ctypes
 import functools
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -20,10 +21,13 @@ from ..model.arrays import as_vector
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal, from_motion
-from .events import Event, EventSpec, actuator_events, joint_limit_events
+from .events import Event, EventSpec, actuator_events, joint_limit_events, output_events
 from .laws import Controller
+from .run_result import Simulation, labels
 from .segments import friction, run_segments
 
+#: the name a controlled run's type had: ``Simulation`` itself
+ControlledRun = Simulation
 _P = ctypes.c_void_p
 MAX_EVENTS_LOGGED = 256
 LOOP_EVENT = "the loops could not stay assembled"
@@ -45,92 +49,6 @@ class _CControl(ctypes.Structure):  # mirrors Control in _integrate.c
                 ("n_log", ctypes.c_int), ("log_ev", _P), ("log_t", _P),
                 ("stopped", ctypes.c_int), ("t_stop", ctypes.c_double), ("y_stop", _P),
                 ("hint_ref", ctypes.c_int), ("hint_input", ctypes.c_int)]
-
-
-@dataclass(frozen=True)
-class ControlledRun:
-    """A controlled run at times ``t_s`` (N,): every coordinate ``q``, ``qd`` (N, n); on the
-    actuated coordinates the reference ``q_ref``, ``qd_ref`` (N, actuated), the commanded
-    torques ``tau_cmd`` and the applied (saturated) ones ``tau`` (N*m or N); the plant's
-    energies, the actuators' work ``work_j`` = int tau . qd dt and the friction loss
-    ``friction_j`` = int D(qd) . qd dt, both integrated with the state (J).
-
-    Attributes
-    ----------
-    t_s : ndarray, shape (N,)
-        Output times (s).
-    q, qd : ndarray, shape (N, n)
-        The plant's coordinates (rad; m at a slider) and rates (rad/s; m/s).
-    q_ref, qd_ref : ndarray, shape (N, actuated)
-        The reference and its rate on the actuated coordinates (rad, rad/s).
-    tau_cmd, tau : ndarray, shape (N, actuated)
-        Commanded and applied (saturated) torques (N*m; N at a slider).
-    kinetic_j, potential_j : ndarray, shape (N,)
-        The plant's kinetic and potential energy (J).
-    work_j, friction_j : ndarray, shape (N,)
-        The actuators' work and the friction loss since the start (J).
-    actuated : tuple of int
-        The actuated coordinates (0-based): the columns of ``q_ref``, ``tau``, ...
-    controller : Controller
-        The control law and gains that ran.
-    method : str
-        The integrator (``"dopri5"``, ``"cvodes"``, ``"idas"``).
-    rtol, atol : float
-        Its tolerances (atol in the state's SI units).
-    n_rhs : int
-        Evaluations of the closed-loop dynamics it made.
-    events : tuple of Event
-        What happened along the run (joint limits, actuator limits, assembly changes).
-    constraint_drift_m : float
-        Closed chains: the largest loop residual max |Phi| over the run (m); 0 for a tree.
-    """
-
-    t_s: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    q_ref: np.ndarray
-    qd_ref: np.ndarray
-    tau_cmd: np.ndarray
-    tau: np.ndarray
-    kinetic_j: np.ndarray
-    potential_j: np.ndarray
-    work_j: np.ndarray
-    friction_j: np.ndarray
-    actuated: tuple[int, ...]
-    controller: Controller
-    method: str
-    rtol: float
-    atol: float
-    n_rhs: int
-    events: tuple[Event, ...] = ()
-    constraint_drift_m: float = 0.0
-
-    @property
-    def stopped(self) -> Event | None:
-        """The event that stopped the run, if one did."""
-        return next((e for e in self.events if e.stopped), None)
-
-    @property
-    def error(self) -> np.ndarray:
-        """Tracking error q_ref - q on the actuated coordinates (N, actuated), rad (m at a
-        slider)."""
-        return self.q_ref - self.q[:, list(self.actuated)]
-
-    @property
-    def energy_j(self) -> np.ndarray:
-        """The plant's total energy kinetic + potential (J), shape (N,)."""
-        return self.kinetic_j + self.potential_j
-
-    @property
-    def balance_residual(self) -> float:
-        """max |E(t) - E(0) - (W(t) - F(t))| over the run, relative to the largest of |E|,
-        |W| and |F| (J/J): the energy the actuators put in, less friction, is what the robot
-        gained, up to the integrator's accuracy."""
-        e = self.energy_j - self.energy_j[0]
-        gap = e - (self.work_j - self.friction_j)
-        scale = max(np.max(np.abs(self.energy_j)), np.max(np.abs(self.work_j)),
-                    np.max(np.abs(self.friction_j)), 1e-300)
-        return float(np.max(np.abs(gap)) / scale)
 
 
 def _array(a, dtype=float) -> np.ndarray:
@@ -254,7 +172,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
                         t_eval=None, joint_limits: dict | None = None,
                         on_joint_limit: str = "stop", on_actuator_limit: str = "continue",
                         method: str = "dopri5", rtol: float = 1e-10, atol: float = 1e-12,
-                        max_steps: int = 10_000_000) -> ControlledRun:
+                        max_steps: int = 10_000_000) -> Simulation:
     """Simulate ``plant`` (default: ``robot``) under ``controller`` over ``t_span`` (s).
 
     Parameters
@@ -284,8 +202,11 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
 
     Returns
     -------
-    ControlledRun
-        Raises InputError for bad input, including an event that fires at the start.
+    Simulation
+        The run (``ControlledRun`` is the same type) with its control fields set: ``q_ref``,
+        ``qd_ref``, ``tau_cmd`` and the applied ``tau`` on the actuated coordinates, ``work_j``,
+        ``friction_j``, ``controller``, ``events``. Raises InputError for bad input, including
+        an event that fires at the start.
     """
     from .forward_closed import initial_state
     from .integrate import check_tolerances, time_grid
@@ -345,7 +266,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
 
         ys, t_out, n_rhs, drift, loop_event = sundials(robot, plant, setup, controller, ref, u,
                                                        y0, t, method, rtol, atol)
-        found = _output_events(control_values(robot, setup, t_out, ys)[2], t_out)
+        found = output_events(control_values(robot, setup, t_out, ys)[2], t_out)
         stops = [tt for k, tt in found if specs[k].stop]
         if stops:  # the run ends at the last sample before the first stop event
             keep = t_out < min(stops)
@@ -373,9 +294,10 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     kin, pot = plant.energy(q, qd)
     q_ref = ref(t_out) if ref is not None else q[:, act]
     qd_ref = ref(t_out, 1) if ref is not None else qd[:, act]
-    return ControlledRun(t_out, q, qd, q_ref, qd_ref, cmd, app, kin, pot, ys[:, 2 * n],
-                         ys[:, 2 * n + 1], tuple(act), controller, method, rtol, atol, n_rhs,
-                         tuple(sorted(events, key=lambda e: e.time_s)), drift)
+    return Simulation(t_out, q, qd, app, kin, pot, method, rtol, atol, n_rhs, drift,
+                      **labels(robot), q_ref=q_ref, qd_ref=qd_ref, tau_cmd=cmd,
+                      work_j=ys[:, 2 * n], friction_j=ys[:, 2 * n + 1], controller=controller,
+                      events=tuple(sorted(events, key=lambda e: e.time_s)))
 
 
 def assembly_changes(robot: Robot, t: np.ndarray, q: np.ndarray) -> list[Event]:
@@ -457,19 +379,3 @@ def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps):
         return out, int(stats[3]), (t_fail.value if rc else 0)
 
     return run_segments(plant, setup, y0, t, segment, count)
-
-
-def _output_events(g: np.ndarray, t: np.ndarray) -> list[tuple[int, float]]:
-    """Events seen on the output grid (the SUNDIALS route), from the event values ``g``
-    (samples, events): the first sample at which each is no longer positive, its time found
-    by linear interpolation."""
-    out = []
-    for k in range(g.shape[1]):
-        bad = g[:, k] <= 0
-        if bad.any():
-            j = int(np.argmax(bad))
-            if j == 0:
-                continue
-            frac = g[j - 1, k] / (g[j - 1, k] - g[j, k])
-            out.append((k, t[j - 1] + frac * (t[j] - t[j - 1])))
-    return out

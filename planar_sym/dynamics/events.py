@@ -142,3 +142,19 @@ def coordinate_index(robot, key) -> int:
         return int(key[1:]) - 1
     raise InputError(f"joint limit for {key!r}: not a coordinate of {robot.name} (q1..q{robot.n}"
                      f", or {', '.join(robot.coordinates)})")
+
+
+def output_events(g: np.ndarray, t: np.ndarray) -> list[tuple[int, float]]:
+    """Events seen on the output grid (the SUNDIALS route), from the event values ``g`` of shape
+    (N, events) at the output times ``t`` (N,) in s: (event, time in s) of the first sample at
+    which each is no longer positive, its time found by linear interpolation."""
+    out = []
+    for k in range(g.shape[1]):
+        bad = g[:, k] <= 0
+        if bad.any():
+            j = int(np.argmax(bad))
+            if j == 0:
+                continue
+            frac = g[j - 1, k] / (g[j - 1, k] - g[j, k])
+            out.append((k, t[j - 1] + frac * (t[j] - t[j - 1])))
+    return out

@@ -17,12 +17,14 @@ Closed chains are in ``planar_sym.dynamics.forward_closed``.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import InputError, SimulationError
-from ..model.library import SingleCall
 from ..model.arrays import as_vector
+from ..model.library import SingleCall
 from ..model.robot import Robot
 from ..motion.signals import Signal
 from .integrate import (
@@ -165,7 +167,8 @@ def _on_actuated(tau_of, robot: Robot):
 
 def _in_the_engine(robot: Robot, q0, qd0, t_span, torque, t_eval, rtol: float, atol: float,
                    method: str, project: bool) -> Simulation:
-    """SUNDIALS in the simulation engine under the open-loop law "none", as a Simulation."""
+    """SUNDIALS in the simulation engine under the open-loop law "none": its Simulation without
+    the control fields (the events it saw kept)."""
     from .engine import simulate_controlled
     from .laws import Controller
 
@@ -188,6 +191,6 @@ def _in_the_engine(robot: Robot, q0, qd0, t_span, torque, t_eval, rtol: float, a
     if not robot.is_closed_chain:  # a tree's torques on every coordinate, 0 at a passive one
         tau = np.zeros((len(run.t_s), n))
         tau[:, act] = run.tau
-    return Simulation(run.t_s, run.q, run.qd, tau, run.kinetic_j, run.potential_j,
-                      run.method, rtol, atol, run.n_rhs, run.constraint_drift_m, correction,
-                      **labels(robot))
+    # the same type as the engine's: an open-loop run, so without the control fields
+    return replace(run, tau=tau, initial_correction_rad=correction, q_ref=None, qd_ref=None,
+                   tau_cmd=None, work_j=None, friction_j=None, controller=None)

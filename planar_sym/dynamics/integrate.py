@@ -1,5 +1,6 @@
-"""Shared by both forward-dynamics paths: the result type, torque inputs, time grids, and the
-adaptive Dormand-Prince 5(4) integrator in C (``_integrate.c``).
+"""Shared by both forward-dynamics paths: torque inputs, time grids, and the adaptive
+Dormand-Prince 5(4) integrator in C (``_integrate.c``). The result type, ``Simulation``, is
+``run_result``'s (imported here too, where it used to live).
 
 The C integrator calls the compiled dynamics with no Python per step: error control as in
 Hairer, Norsett & Wanner, FSAL, steps shortened to land exactly on every output time.
@@ -8,7 +9,6 @@ Hairer, Norsett & Wanner, FSAL, steps shortened to land exactly on every output 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -16,127 +16,13 @@ import numpy as np
 from ..errors import InputError, SimulationError
 from ..model.compile import load_helper
 from ..model.robot import Robot
-from .columns import coordinate_column
+from .run_result import Simulation, labels
+
+__all__ = ["SCIPY_METHODS", "Simulation", "Torque", "check_tolerances", "dopri5", "helper",
+           "integrator", "labels", "time_grid", "torque_function"]
 
 Torque = None | float | np.ndarray | Callable[[float], np.ndarray]
 SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
-
-
-@dataclass(frozen=True)
-class Simulation:
-    """A forward-dynamics run: arrays of shape (N, n) at times ``t_s``; energies (J) per sample.
-
-    Attributes
-    ----------
-    t_s : ndarray, shape (N,)
-        Output times (s).
-    q, qd : ndarray, shape (N, n)
-        Every coordinate (rad; m at a slider) and its rate (rad/s; m/s).
-    tau : ndarray, shape (N, n) or (N, actuated)
-        The input torques at each output time (N*m; N at a slider): a tree's on every
-        coordinate (0 at a passive joint), a closed chain's on its actuated coordinates.
-    kinetic_j, potential_j : ndarray, shape (N,)
-        Kinetic and potential energy (J).
-    method : str
-        The integrator that ran (``"dopri5"``, a SciPy method, ``"cvodes"``, ``"idas"``).
-    rtol, atol : float
-        Its relative and absolute tolerances (absolute in the state's SI units).
-    n_rhs : int
-        Evaluations of the dynamics it made.
-    constraint_drift_m : float
-        Closed chains: the largest loop residual max |Phi| over the run (m); 0 for a tree.
-    initial_correction_rad : float
-        How far ``project=True`` moved the passive joints of the initial state (rad).
-    robot : str
-        The simulated robot's name.
-    coordinate_units : tuple of str
-        Each coordinate's unit, ``"rad"`` or ``"m"``: what names the columns (``columns``).
-    actuated : tuple of int
-        The actuated coordinates (0-based): the columns of ``tau`` when it holds only those.
-    """
-
-    t_s: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray
-    tau: np.ndarray
-    kinetic_j: np.ndarray
-    potential_j: np.ndarray
-    method: str
-    rtol: float
-    atol: float
-    n_rhs: int
-    constraint_drift_m: float = 0.0  # max |Phi| over the run (closed chains)
-    initial_correction_rad: float = 0.0  # how far project=True moved the passive joints
-    #: the robot's name, each coordinate's unit ("rad" or "m") and its actuated coordinates
-    #: (0-based): what names the columns (``columns``, ``to_dataframe``, ``save_npz``)
-    robot: str = ""
-    coordinate_units: tuple[str, ...] = ()
-    actuated: tuple[int, ...] = ()
-
-    def columns(self) -> dict[str, np.ndarray]:
-        """The run as named columns, each (N,), the unit in the name as in a study's CSV:
-        ``t_s``, ``q<k>_rad`` (``q<k>_m`` at a slider), ``qd<k>_rad_s`` (``_m_s``),
-        ``tau<k>_n_m`` (``_n``; k numbering the robot's coordinates from 1, the actuated ones
-        only when ``tau`` holds those), ``kinetic_j``, ``potential_j``, ``energy_j``."""
-        n = self.q.shape[1]
-        units = self.coordinate_units
-        if len(units) != n:
-            raise InputError(f"this Simulation does not know its {n} coordinates' units (made "
-                             "without a robot): use planar_sym.simulate's result, or "
-                             "dataclasses.replace(sim, coordinate_units=('rad', 'm', ...))")
-        width = self.tau.shape[1] if self.tau.ndim == 2 else 0
-        on = (range(n) if width == n else self.actuated if width == len(self.actuated)
-              else None)
-        if on is None:
-            raise InputError(f"tau has {width} columns, neither the {n} coordinates nor the "
-                             f"{len(self.actuated)} actuated ones")
-        out = {"t_s": self.t_s}
-        for kind, arr, idx in (("q", self.q, range(n)), ("qd", self.qd, range(n)),
-                               ("tau", self.tau, on)):
-            for col, k in enumerate(idx):
-                out[coordinate_column(kind, k, units[k])] = arr[:, col]
-        out.update(kinetic_j=self.kinetic_j, potential_j=self.potential_j,
-                   energy_j=self.energy_j)
-        return out
-
-    def metadata(self) -> dict[str, str]:
-        """What the NPZ and the DataFrame's ``attrs`` carry besides the columns."""
-        return {"robot": self.robot, "method": self.method, "rtol": repr(self.rtol),
-                "atol": repr(self.atol), "n_rhs": str(self.n_rhs),
-                "constraint_drift_m": repr(self.constraint_drift_m), "writer": "planar-sym"}
-
-    def to_dataframe(self):
-        """The run as a pandas DataFrame: one column per ``columns()`` entry (``t_s`` a column,
-        not the index), ``attrs`` = ``metadata()``. Needs pandas (``pip install pandas``)."""
-        from .columns import dataframe
-
-        return dataframe(self.columns(), self.metadata())
-
-    def save_npz(self, path) -> Path:
-        """Write ``columns()`` and ``metadata()`` to the NPZ file ``path`` (whole or not at
-        all); read it back with ``planar_sym.dynamics.columns.load_npz`` or ``np.load``."""
-        from .columns import save_npz
-
-        return save_npz(path, self.columns(), self.metadata())
-
-    @property
-    def energy_j(self) -> np.ndarray:
-        """Total energy kinetic + potential (J), shape (N,)."""
-        return self.kinetic_j + self.potential_j
-
-    @property
-    def energy_drift(self) -> float:
-        """max |E(t) - E(0)| / max(|E(0)|, E scale) over the run (J/J): about the integrator's
-        tolerance for a free motion without friction."""
-        e = self.energy_j
-        scale = max(abs(e[0]), np.max(np.abs(self.kinetic_j)), 1e-300)
-        return float(np.max(np.abs(e - e[0])) / scale)
-
-
-def labels(robot: Robot) -> dict:
-    """The keyword arguments that let a ``Simulation`` of ``robot`` name its columns."""
-    return {"robot": robot.name, "coordinate_units": tuple(robot.coordinate_units),
-            "actuated": tuple(robot.actuated)}
 
 
 def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:

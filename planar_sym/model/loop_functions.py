@@ -56,12 +56,14 @@ class LoopFunctions:
 
     def refuse_singular(self, cond: np.ndarray, t=None) -> None:
         """``model.loops.refuse_singular`` for this robot: WorkspaceError at the first sample
-        whose Phi_p has a 1-norm condition number ``cond`` (N,) above COND_LIMIT."""
+        whose Phi_p has a 1-norm condition number ``cond`` (N,) (dimensionless) above
+        COND_LIMIT; ``t`` (N,) in s names its time."""
         refuse_singular(self.name, cond, t)
 
     def check_on_loops(self, phi, phi_v, phi_a, qd, qdd, t=None) -> None:
         """``model.loops.check_on_loops`` for this robot: InputError at the first sample off
-        the loops (residuals Phi, Phi_q qd, Phi_q qdd - gamma, each (N, 2 * loops))."""
+        the loops (residuals Phi in m, Phi_q qd in m/s, Phi_q qdd - gamma in m/s^2, each
+        (N, 2 * loops); rates ``qd`` (N, n) in rad/s, ``qdd`` in rad/s^2; ``t`` (N,) in s)."""
         check_on_loops(self.name, self.loops, phi, phi_v, phi_a, qd, qdd, t)
 
     def _closed_inverse_dynamics(self, q, qd, qdd):

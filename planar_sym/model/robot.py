@@ -180,8 +180,9 @@ class Robot(LoopFunctions):
 
     @property
     def p(self) -> np.ndarray:
-        """The parameter values the compiled functions use (SI, ``parameter_list`` order),
-        read-only: ``with_parameters`` makes a robot with others."""
+        """The parameter values the compiled functions use, shape (len(parameter_list),), SI,
+        in ``parameter_list`` order; read-only: ``with_parameters`` makes a robot with
+        others."""
         return self._parameters.vector
 
     def casadi_function(self, quantity: str):

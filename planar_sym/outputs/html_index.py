@@ -72,7 +72,7 @@ def peak_lines(result: Result) -> list[str]:
 
 def study_section(result: Result, folder: Path, embed: bool) -> str:
     """One study: title, what it is, peak torques, its pictures found in ``folder``, CSV link."""
-    t = result.columns["t_s"]
+    t = result.get("t").values
     rows = [("robot", f'<a href="#robot-{_e(result.robot)}">{_e(result.robot)}</a>'),
             ("duration", f"{t[-1] - t[0]:.6g} s, {len(t)} samples"),
             ("peaks", '<span class="peaks">' + "<br>".join(map(_e, peak_lines(result)))

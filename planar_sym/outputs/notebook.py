@@ -158,7 +158,7 @@ def result_html(result: Result, picture: bool = True) -> str:
     """
     from .plots import figure
 
-    t = result.columns["t_s"]
+    t = result.get("t").values
     rows = [("study", result.name), ("what", result.summary), ("robot", result.robot),
             ("shows", result.kind), ("samples", str(len(t))),
             ("duration", f"{t[-1] - t[0]:.6g} s")]
@@ -166,8 +166,8 @@ def result_html(result: Result, picture: bool = True) -> str:
         rows.append(("inverse kinematics", result.solver))
     for key, (peak, unit) in result.peak_torques_with_units().items():
         rows.append((f"peak |{key}|", f"{peak:.6g} {unit}"))
-    if "energy_j" in result.columns:
-        e = result.columns["energy_j"]
+    for energy in result.series("energy"):
+        e = energy.values
         rows.append(("energy E(end) - E(0)", f"{e[-1] - e[0]:.3g} J"))
     if result.note:
         rows.append(("note", result.note))

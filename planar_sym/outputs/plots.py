@@ -7,7 +7,6 @@ threads), and a notebook still shows a returned Figure.
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
@@ -61,37 +60,33 @@ def _finish(fig, axes, result: Result, title: str) -> None:
     fig.set_layout_engine(None)
 
 
-#: a joint's bearing load column: jload_<joint>_n, |F| in N (study.run.load_columns)
-JOINT_LOAD = re.compile(r"^jload_(\w+)_n$")
+#: how a series is drawn, by its unit: (scale from its unit, axis label with {} its stem)
+DRAWN = {"rad": (180 / np.pi, "joint angle {} (deg)"), "m": (1e3, "joint {} (mm)"),
+         "N*m": (1.0, "torque {} (N*m)"), "N": (1.0, "force {} (N)")}
 
 
 def figure(result: Result):
-    """A matplotlib Figure of a result (joint angles in deg, or torques in N*m, against t in s).
+    """A matplotlib Figure of a result (joint angles in deg, or torques in N*m, against t in s;
+    a slider's displacement in mm, its force in N).
 
     Below the torques of an inverse-dynamics result, one more axis: every joint's bearing load
-    ``|F|`` (N), the ``jload_<joint>_n`` columns.
+    ``|F|`` (N), the ``jload`` series (columns ``jload_<joint>_n``).
     """
     if result.kind == "control":
         return control_figure(result)
-    if result.kind == "angles":
-        series, label, scale = result.angles(), "joint angle {} (deg)", 180 / np.pi
-    else:
-        series, label, scale = result.torques(), "torque {} (N*m)", 1.0
-    loads = {m.group(1): v for k, v in result.columns.items() if (m := JOINT_LOAD.match(k))}
+    series = result.series("q" if result.kind == "angles" else "tau")
+    loads = result.series("jload")
     fig, axes = _axes(len(series) + bool(loads))
-    t = result.columns["t_s"]
-    for ax, (key, values) in zip(axes, series.items()):
-        # a prismatic joint: a force tau<k>_n (N), a displacement q<k>_m (drawn in mm)
-        force = key.endswith("_m" if result.kind == "angles" else "_n")
-        ax.plot(t, values * (1e3 if result.kind == "angles" and force else scale), lw=1.6)
-        which = key.split("_")[0]
-        ax.set_ylabel((f"joint {which} (mm)" if result.kind == "angles" else f"force {which} (N)")
-                      if force else label.format(which))
+    t = result.get("t").values
+    for ax, s in zip(axes, series):
+        scale, label = DRAWN[s.unit]
+        ax.plot(t, s.values * scale, lw=1.6)
+        ax.set_ylabel(label.format(s.stem))
         ax.grid(True, alpha=0.4)
     if loads:
         ax = axes[-1]
-        for joint, values in loads.items():
-            ax.plot(t, values, lw=1.3, label=joint)
+        for s in loads:
+            ax.plot(t, s.values, lw=1.3, label=s.joint)
         ax.set_ylabel("joint load |F| (N)")
         ax.grid(True, alpha=0.4)
         ax.legend(fontsize=7, ncol=min(len(loads), 5), loc="best")
@@ -99,45 +94,48 @@ def figure(result: Result):
     return fig
 
 
+#: a coordinate's value or error as drawn, by its unit: (scale, unit shown)
+COORDINATE_SHOWN = {"rad": (180 / np.pi, "deg"), "m": (1e3, "mm")}
+
+
 def control_figure(result: Result):
     """A control study: per actuated joint its reference (dashed) and actual motion (deg, or
     mm for a slider); the tracking errors; the commanded (dashed) and applied torques (N*m or
     N); and, for a robot with a tool point, the tool's distance from its reference (mm)."""
-    cols, t = result.columns, result.columns["t_s"]
+    t = result.get("t").values
     act = list(result.actuated)
-    task = "e_task_mm" in cols
-    fig, axes = _axes(len(act) + 2 + task)
+    task = result.series("e_task")
+    fig, axes = _axes(len(act) + 2 + bool(task))
     for ax, i in zip(axes, act):
-        slider = f"q{i + 1}_m" in cols
-        unit, scale = ("m", 1e3) if slider else ("rad", 180 / np.pi)
-        ax.plot(t, cols[f"q{i + 1}_ref_{unit}"] * scale, "--", color="grey", lw=1.6,
+        q = result.get("q", i)
+        scale, shown = COORDINATE_SHOWN[q.unit]
+        ax.plot(t, result.get("q_ref", i).values * scale, "--", color="grey", lw=1.6,
                 label="reference")
-        ax.plot(t, cols[f"q{i + 1}_{unit}"] * scale, color="tab:blue", lw=1.3, label="actual")
-        ax.set_ylabel(f"q{i + 1} ({'mm' if slider else 'deg'})")
+        ax.plot(t, q.values * scale, color="tab:blue", lw=1.3, label="actual")
+        ax.set_ylabel(f"{q.stem} ({shown})")
         ax.grid(True, alpha=0.4)
     axes[0].legend(fontsize=7, loc="best")
     ax = axes[len(act)]
     for i in act:
-        slider = f"e{i + 1}_m" in cols
-        values = cols[f"e{i + 1}_m"] * 1e3 if slider else cols[f"e{i + 1}_rad"] * 180 / np.pi
-        ax.plot(t, values, lw=1.3, label=f"e{i + 1} ({'mm' if slider else 'deg'})")
+        e = result.get("e", i)
+        scale, shown = COORDINATE_SHOWN[e.unit]
+        ax.plot(t, e.values * scale, lw=1.3, label=f"{e.stem} ({shown})")
     ax.axhline(0.0, color="grey", lw=0.6)
     ax.set_ylabel("error q_ref - q")
     ax.legend(fontsize=7, ncol=len(act), loc="best")
     ax.grid(True, alpha=0.4)
     ax = axes[len(act) + 1]
     for k, i in enumerate(act):
-        name = next(c for c in (f"tau{i + 1}_n_m", f"tau{i + 1}_n") if c in cols)
+        tau = result.get("tau", i)
         colour = f"C{k}"
-        ax.plot(t, cols[name.replace("tau", "tau_cmd", 1)], "--", color=colour, lw=1.0)
-        ax.plot(t, cols[name], color=colour, lw=1.4,
-                label=f"tau{i + 1} ({'N' if name.endswith('_n') else 'N*m'})")
+        ax.plot(t, result.get("tau_cmd", i).values, "--", color=colour, lw=1.0)
+        ax.plot(t, tau.values, color=colour, lw=1.4, label=f"{tau.stem} ({tau.unit})")
     ax.set_ylabel("torque: applied, commanded --")
     ax.legend(fontsize=7, ncol=len(act), loc="best")
     ax.grid(True, alpha=0.4)
     if task:
         ax = axes[-1]
-        ax.plot(t, cols["e_task_mm"], color="crimson", lw=1.3)
+        ax.plot(t, task[0].values, color="crimson", lw=1.3)
         ax.set_ylabel("tool error |x_ref - x| (mm)")
         ax.grid(True, alpha=0.4)
     _finish(fig, axes, result, result.summary)
@@ -149,8 +147,9 @@ def split_figure(result: Result):
     drive train has them, friction D(qd) and the rotors' share.
 
     The parts are ``result.split`` (see ``dynamics.inverse.torque_split``); the total is the torque
-    column ``tau<k>_n_m`` where the result has one, else (forward dynamics, zero torque) their
-    sum. k numbers the robot's coordinates: the actuated ones are ``result.actuated``.
+    series ``tau`` of the coordinate where the result has one (column ``tau<k>_n_m``), else
+    (forward dynamics, zero torque) their sum. k numbers the robot's coordinates: the actuated
+    ones are ``result.actuated``.
     """
     # the drive train's parts only where they are not zero throughout (no actuator model)
     shown = [k for i, k in enumerate(SPLIT_PARTS)
@@ -160,13 +159,13 @@ def split_figure(result: Result):
     colours = [SPLIT_COLOURS[list(SPLIT_PARTS).index(k)] for k in shown]
     n_act = parts[0].shape[1]
     fig, axes = _axes(n_act)
-    t = result.columns["t_s"]
+    t = result.get("t").values
     coords = list(result.actuated) or list(range(n_act))
     for k, ax in enumerate(axes):
         name = f"tau{coords[k] + 1}"
-        force = f"{name}_n" in result.columns  # a prismatic joint's force (N)
-        total = result.columns.get(f"{name}_n_m", result.columns.get(f"{name}_n",
-                                                                     sum(p[:, k] for p in parts)))
+        tau = result.series("tau", coords[k])
+        force = bool(tau) and tau[0].unit == "N"  # a prismatic joint's force (N)
+        total = tau[0].values if tau else sum(p[:, k] for p in parts)
         ax.plot(t, total, color="black", lw=2.2, label=f"{name} (total)")
         for part, label, colour in zip(parts, labels, colours):
             ax.plot(t, part[:, k], color=colour, lw=1.3, label=label)
@@ -174,8 +173,8 @@ def split_figure(result: Result):
         ax.set_ylabel(f"force {name} (N)" if force else f"torque {name} (N*m)")
         ax.grid(True, alpha=0.4)
     axes[0].legend(fontsize=7, ncol=4, loc="best")
-    # cut-joint force columns mark a closed chain, whose parts went through the multiplier solve
-    closed = any(k.startswith("fx_") for k in result.columns)
+    # cut-joint forces mark a closed chain, whose parts went through the multiplier solve
+    closed = bool(result.series("fx"))
     how = "each part through [S^T Phi_q^T], as tau is" if closed else "tau = M qdd + C qd + g"
     if not result.torques():
         how += "; tau = 0 here: the parts balance"

@@ -1,4 +1,5 @@
-"""A sweep's figures against a varied parameter: one axis per figure, units in the labels."""
+"""A sweep's figures against a varied parameter: one axis per figure, units in the labels (from
+the table's typed columns, ``SweepResult.info``)."""
 
 from __future__ import annotations
 
@@ -10,17 +11,13 @@ from ..analysis.sweep import SweepResult
 from ..errors import InputError
 from .plots import new_figure, tight
 
-#: column suffix -> unit as a label shows it
-_UNITS = {"n_m": "N*m", "n": "N", "kg": "kg", "kg_m2": "kg*m^2", "m": "m", "m_s2": "m/s^2",
-          "j": "J", "mm": "mm", "m2": "m^2", "rad": "rad", "rpm": "rpm", "w": "W"}
 
-
-def label(column: str) -> str:
-    """``peak_tau1_n_m`` -> ``peak_tau1 (N*m)``: the name, its unit in brackets."""
-    for suffix in sorted(_UNITS, key=len, reverse=True):
-        if column.endswith("_" + suffix):
-            return f"{column[:-len(suffix) - 1]} ({_UNITS[suffix]})"
-    return column
+def label(result: SweepResult, column: str) -> str:
+    """``peak_tau1_n_m`` -> ``peak_tau1 (N*m)``: the column's stem, its unit in brackets, from
+    its typed entry in ``result.info`` (the bare name for a pure number, or a column the
+    result does not type)."""
+    figure = result.info.get(column)
+    return column if figure is None else figure.label
 
 
 def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
@@ -31,7 +28,7 @@ def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
     x = x or next((v for v in result.varied if _changes(result.columns[v])), result.varied[0])
     if x not in result.columns:
         raise InputError(f"no column {x!r} in the sweep (columns: {', '.join(result.columns)})")
-    figs = list(figures or [f for f in result.figures if f.startswith("peak_tau")]
+    figs = list(figures or [f for f in result.figures if _peak_torque(result, f)]
                 or result.figures)
     missing = [f for f in figs if f not in result.columns]
     if missing or not figs:
@@ -53,19 +50,26 @@ def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
                 pick = np.ones(len(xs), bool) if group is None else result.columns[group] == level
                 order = np.argsort(xs[pick], kind="stable")
                 ax.plot(xs[pick][order], ys[pick][order], marker=".",
-                        label=None if group is None else f"{label(group)} = {level:.4g}")
+                        label=None if group is None else
+                        f"{label(result, group)} = {level:.4g}")
         else:
             sc = ax.scatter(xs, ys, c=result.columns[group], s=6)
-            fig.colorbar(sc, ax=ax, label=label(group))
-        ax.set_ylabel(label(name))
+            fig.colorbar(sc, ax=ax, label=label(result, group))
+        ax.set_ylabel(label(result, name))
         ax.grid(True, alpha=0.3)
     if lines and group is not None:
         axes[0].legend(fontsize=7)
-    axes[-1].set_xlabel(label(x))
+    axes[-1].set_xlabel(label(result, x))
     failed = f", {len(result.failed)} failed" if result.failed else ""
     axes[0].set_title(f"sweep of {result.study}: {len(result)} designs{failed}", fontsize=9)
     tight(fig)
     return fig
+
+
+def _peak_torque(result: SweepResult, column: str) -> bool:
+    """Whether ``column`` is a joint's peak torque (the default figures)."""
+    figure = result.info.get(column)
+    return figure is not None and (figure.statistic, figure.quantity) == ("peak", "tau")
 
 
 def _changes(values: np.ndarray) -> bool:

@@ -1,19 +1,21 @@
-"""Columns and notes every kind of study shares: task coordinates as the seed writes them, and
+"""Series and notes every kind of study shares: task coordinates as the seed writes them, and
 which coordinate is which."""
 
 from __future__ import annotations
 
 import numpy as np
 
+from ..dynamics.series import Series
 from ..model.robot import Robot
 
 
-def task_columns(robot: Robot, x_si: np.ndarray) -> dict[str, np.ndarray]:
-    """Task coordinates as the seed writes them: x, y in mm, phi in rad."""
+def task_series(robot: Robot, x_si: np.ndarray, suffix: str = "") -> list[Series]:
+    """Task coordinates as the seed writes them (``x_si``: shape (N, task), SI): x, y in mm,
+    phi in rad; quantities ``x``, ``y``, ``phi`` (``x_ref``, ... with ``suffix="_ref"``)."""
     x_si = np.asarray(x_si).reshape(len(x_si), -1)
-    return {(f"{n}_rad" if n == "phi" else f"{n}_mm"): (x_si[:, i] if n == "phi"
-                                                        else x_si[:, i] * 1e3)
-            for i, n in enumerate(robot.task_names)}
+    return [Series(f"{n}{suffix}", "rad", x_si[:, i]) if n == "phi"
+            else Series(f"{n}{suffix}", "mm", x_si[:, i] * 1e3)
+            for i, n in enumerate(robot.task_names)]
 
 
 def coordinates_note(robot: Robot) -> str:

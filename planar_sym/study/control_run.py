@@ -2,7 +2,8 @@
 controller tracks it on the plant in the compiled loop, and the result carries the tracking
 errors, the commanded and applied torques, the events and the energy balance.
 
-Columns, besides those of a simulation (``t_s``, task coordinates, ``q<k>``, ``qd<k>``):
+Series (``dynamics.series.Series``, named here by their columns), besides those of a
+simulation (``t_s``, task coordinates, ``q<k>``, ``qd<k>``):
 ``q<k>_ref_rad`` and ``e<k>_rad`` (reference and error q_ref - q, actuated coordinates);
 ``x_ref_mm``, ``y_ref_mm`` (``phi_ref_rad``) and ``e_task_mm`` (distance of the tool from its
 reference); ``tau_cmd<k>_n_m`` (the controller's) and ``tau<k>_n_m`` (applied, after
@@ -16,17 +17,18 @@ from __future__ import annotations
 import numpy as np
 
 from ..control import controller as make_controller
-from ..dynamics.engine import ControlledRun, simulate_controlled
+from ..dynamics.engine import simulate_controlled
 from ..dynamics.events import coordinate_index
+from ..dynamics.run_result import Simulation
 from ..errors import InputError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal, from_motion, from_table
 from . import spec as specs
-from .columns import coordinates_note, task_columns
+from .columns import coordinates_note, task_series
 from .motion import check_width, coordinate_scale, joint_motion
 from .parameters import with_overrides
-from .result import Result, coordinate_column
+from .result import Result, Series, coordinate_column
 from .sizing import size
 
 #: a reference that ends moving cannot be held: its end rates must be this small (SI/s)
@@ -164,7 +166,7 @@ def torque_input(st: specs.Study, robot: Robot, tq, t_end: float, fld: str):
     return sig
 
 
-def _split(robot: Robot, plant: Robot, run: ControlledRun) -> dict[str, np.ndarray]:
+def _split(robot: Robot, plant: Robot, run: Simulation) -> dict[str, np.ndarray]:
     """The applied torques split into M qdd, C qd, g, friction and rotors along the motion the
     plant made (its accelerations from its own dynamics); {} for an arm with passive joints."""
     from ..dynamics.forward_closed import kkt_accelerations
@@ -179,36 +181,30 @@ def _split(robot: Robot, plant: Robot, run: ControlledRun) -> dict[str, np.ndarr
     return torque_split(plant, run.q, run.qd, qdd, t=run.t_s)
 
 
-def _result(st: specs.Study, robot: Robot, plant: Robot, run: ControlledRun,
+def _result(st: specs.Study, robot: Robot, plant: Robot, run: Simulation,
             ref_full: Signal) -> Result:
     t = run.t_s
     units = robot.coordinate_units
-    cols = {"t_s": t}
+    data = [Series("t", "s", t)]
     q_ref_full = ref_full(t)
     if robot.task_names:
         x = robot.task(run.q)[0].reshape(len(t), -1)
         x_ref = robot.task(q_ref_full)[0].reshape(len(t), -1)
-        cols.update(task_columns(robot, x))
-        cols.update({k.replace("_", "_ref_", 1): v
-                     for k, v in task_columns(robot, x_ref).items()})
+        data += task_series(robot, x) + task_series(robot, x_ref, "_ref")
         xy = [i for i, nm in enumerate(robot.task_names) if nm != "phi"]
-        cols["e_task_mm"] = np.linalg.norm(x_ref[:, xy] - x[:, xy], axis=1) * 1e3
-    for kind, values in (("q", run.q), ("qd", run.qd)):
-        for i in range(robot.n):
-            cols[coordinate_column(kind, i, units[i])] = values[:, i]
+        data.append(Series("e_task", "mm",
+                           np.linalg.norm(x_ref[:, xy] - x[:, xy], axis=1) * 1e3))
+    # the run's own series (the same code names a Simulation's columns), in the CSV's order
+    data += run.series("q") + run.series("qd")
+    error = run.error
     for k, i in enumerate(robot.actuated):
-        u = units[i]
-        cols[f"q{i + 1}_ref_{u}"] = run.q_ref[:, k]
-        cols[f"e{i + 1}_{u}"] = run.error[:, k]
+        data += [run.get("q_ref", i), Series.of_coordinate("e", i, units[i], error[:, k])]
     for k, i in enumerate(robot.actuated):
-        name = coordinate_column("tau", i, units[i])
-        cols[name.replace("tau", "tau_cmd", 1)] = run.tau_cmd[:, k]
-        cols[name] = run.tau[:, k]
-        cols[f"p{i + 1}_w"] = run.tau[:, k] * run.qd[:, i]
-    cols["energy_j"] = run.energy_j
-    cols["work_j"] = run.work_j
-    cols["friction_j"] = run.friction_j
-    cols["balance_j"] = run.energy_j - run.energy_j[0] - (run.work_j - run.friction_j)
+        data += [run.get("tau_cmd", i), run.get("tau", i),
+                 Series("p", "W", run.tau[:, k] * run.qd[:, i], index=i)]
+    data += [run.get("energy"), run.get("work"), run.get("friction"),
+             Series("balance", "J",
+                    run.energy_j - run.energy_j[0] - (run.work_j - run.friction_j))]
     ctl = run.controller
     gains = ""
     if ctl.kind != "none":
@@ -232,7 +228,7 @@ def _result(st: specs.Study, robot: Robot, plant: Robot, run: ControlledRun,
         note += "; EVENTS: " + "; ".join(str(e) for e in run.events)
     sizing = size(plant, t, run.qd, run.tau)
     split = _split(robot, plant, run)
-    return Result(st.name, st.title, cols, kind="control", note=note, split=split,
+    return Result(st.name, st.title, data, kind="control", note=note, split=split,
                   robot=robot.name,
                   actuated=robot.actuated, sizing=sizing, reference=q_ref_full,
                   events=run.events)

@@ -1,29 +1,26 @@
-"""Study results: labelled columns whose names carry their units, and the torque split."""
+"""Study results: typed series (quantity, unit, coordinate or joint), named as columns whose
+names carry their units only at the output edge (CSV, NPZ, DataFrame), and the torque split."""
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
 # a coordinate's column names are the dynamics layer's (a Simulation names its columns too)
-from ..dynamics.columns import SUFFIXES, coordinate_column
+from ..dynamics.columns import coordinate_column
+from ..dynamics.series import Series, columns_of, one, select
 
-__all__ = ["ANGLE", "SUFFIXES", "TORQUE", "Result", "coordinate_column"]
-
-#: the column holding a coordinate's torque: tau<k>_n_m, k numbering the robot's coordinates
-#: (a prismatic joint's force: tau<k>_n)
-TORQUE = re.compile(r"^tau(\d+)_n(_m)?$")
-#: a coordinate's angle column (a prismatic joint's displacement: q<k>_m)
-ANGLE = re.compile(r"^q(\d+)_(rad|m)$")
-
+__all__ = ["Result", "Series", "coordinate_column"]
 
 
 @dataclass(frozen=True)
 class Result:
-    """Columns (name -> (N,) array) of one study run; each name carries its unit (``t_s``,
-    ``q1_rad``, ``qd1_rad_s``, ``tau1_n_m``, ``fx_C_n``, ``energy_j``, ...).
+    """One study run as typed series (``data``: ``dynamics.series.Series``, each (N,) with its
+    quantity, unit and coordinate or joint); the CSV's columns are made from them, each name
+    carrying its unit (``t_s``, ``q1_rad``, ``qd1_rad_s``, ``tau1_n_m``, ``fx_C_n``,
+    ``energy_j``, ...).
 
     ``kind`` says what the main figure shows: ``"angles"`` (joint angles), ``"torques"``, or
     ``"control"`` (reference against actual, tracking errors, commanded and applied torques).
@@ -41,14 +38,23 @@ class Result:
         The study's name (the CSV and figure file names).
     summary : str
         Its title, one line.
-    columns : dict of str to ndarray
-        Column name (with its unit) -> values, shape (N,), SI; ``t_s`` first.
+    data : tuple of Series
+        Every series, in the CSV's column order, ``t`` (s) first; SI but for the task
+        coordinates x, y in mm. Read them with ``series`` and ``get``; ``columns`` names them.
     kind : str
         ``"angles"``, ``"torques"`` or ``"control"``.
     note : str
         What the figure's footnote says: coordinates, solver, drift, limits exceeded.
+    split : dict of str to ndarray
+        The torque split, each part (N, actuated) in N*m.
     robot : str
         The robot's name.
+    solver : str
+        The inverse kinematics that ran ("" if none).
+    actuated : tuple of int
+        The actuated coordinates (0-based).
+    sizing : tuple of ActuatorSizing
+        What each actuator must deliver (inverse dynamics and control), () otherwise.
     reference : ndarray, shape (N, n), or None
         Control studies: every coordinate's reference at ``t_s`` (rad; m at a slider).
     events : tuple of Event
@@ -57,7 +63,7 @@ class Result:
 
     name: str
     summary: str
-    columns: dict[str, np.ndarray]
+    data: tuple[Series, ...]
     kind: str
     note: str = ""
     split: dict[str, np.ndarray] = field(default_factory=dict)
@@ -71,30 +77,51 @@ class Result:
     #: control studies: what happened along the run (``control.Event``: name, time, stopped)
     events: tuple = ()
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "data", tuple(self.data))
+        columns_of(self.data)  # refuses two series of one column name
+
+    @cached_property
+    def columns(self) -> dict[str, np.ndarray]:
+        """Column name (with its unit) -> values, each (N,), SI as the name says (x, y in mm):
+        the ``column`` of every series in ``data``, ``t_s`` first. Made from the series: the
+        output edge (CSV, NPZ, DataFrame)."""
+        return columns_of(self.data)
+
+    def series(self, quantity: str | None = None, index: int | None = None,
+               joint: str | None = None) -> tuple[Series, ...]:
+        """The series of ``quantity`` (every one if None: ``"q"``, ``"tau"``, ``"jload"``,
+        ...), of coordinate ``index`` (0-based) and of ``joint`` where given, in column order;
+        each (N,) in its own ``unit``."""
+        return select(self.data, quantity, index, joint)
+
+    def get(self, quantity: str, index: int | None = None, joint: str | None = None) -> Series:
+        """The one series of ``quantity`` (at coordinate ``index``, 0-based, or ``joint``),
+        shape (N,), in its ``unit``; KeyError if there is none or more than one."""
+        return one(self.data, quantity, index, joint)
+
     def table(self) -> np.ndarray:
         """Every column side by side, shape (N, columns), SI as the column names say."""
-        return np.column_stack(list(self.columns.values()))
+        return np.column_stack([s.values for s in self.data])
 
     def torques(self) -> dict[str, np.ndarray]:
-        """The torque columns, each (N,) in N*m (a prismatic joint's force in N), in
-        coordinate order."""
-        return {k: v for k, v in self.columns.items() if TORQUE.match(k)}
+        """The applied torques (series ``"tau"``), each (N,) in N*m (a prismatic joint's force
+        in N), keyed by column name, in coordinate order."""
+        return {s.column: s.values for s in self.series("tau")}
 
     def angles(self) -> dict[str, np.ndarray]:
-        """The joint-coordinate columns, each (N,) in rad (a slider's in m), in coordinate
-        order."""
-        return {k: v for k, v in self.columns.items() if ANGLE.match(k)}
+        """The joint coordinates (series ``"q"``), each (N,) in rad (a slider's in m), keyed by
+        column name, in coordinate order."""
+        return {s.column: s.values for s in self.series("q")}
 
     def peak_torques(self) -> dict[str, float]:
-        """Largest magnitude (N*m, or N for a force) of each torque column, keyed ``tau<k>``."""
-        return {k.split("_")[0]: float(np.max(np.abs(v)))
-                for k, v in self.torques().items()}
+        """Largest magnitude (N*m, or N for a force) of each torque, keyed ``tau<k>``."""
+        return {s.stem: float(np.max(np.abs(s.values))) for s in self.series("tau")}
 
     def peak_torques_with_units(self) -> dict[str, tuple[float, str]]:
-        """``peak_torques`` with each one's unit: ``tau<k>`` -> (peak, ``"N*m"``, or ``"N"`` for
-        a slider's force)."""
-        units = {k.split("_")[0]: ("N" if k.endswith("_n") else "N*m") for k in self.torques()}
-        return {k: (v, units[k]) for k, v in self.peak_torques().items()}
+        """``peak_torques`` with each one's unit, the series' own: ``tau<k>`` -> (peak,
+        ``"N*m"``, or ``"N"`` for a slider's force)."""
+        return {s.stem: (float(np.max(np.abs(s.values))), s.unit) for s in self.series("tau")}
 
     def csv_text(self) -> str:
         """The columns as CSV text: one header row of names with units, then one row per

@@ -1,14 +1,15 @@
 """Run a study: load its robot, apply its parameters, make its motion (or simulation), and return
-labelled columns with units.
+typed series (``dynamics.series.Series``: quantity, unit, coordinate or joint) in a ``Result``.
 
-Columns (one header row in the CSV): ``t_s``; the task coordinates (``x_mm``, ``y_mm``,
-``phi_rad``); every joint coordinate ``q<k>_rad`` with its rate ``qd<k>_rad_s`` and, for inverse
-dynamics, acceleration ``qdd<k>_rad_s2`` (k numbers the robot's coordinates, passive joints of
-closed chains included); the torque at each actuated coordinate ``tau<k>_n_m`` (same k); for
-closed chains the reaction force at each cut joint ``fx_<joint>_n``, ``fy_<joint>_n`` (N, world
-axes, on the cut joint's parent body); for inverse dynamics every joint's load (``load_columns``:
-``jfx_<joint>_n``, ``jfy_<joint>_n``, ``jload_<joint>_n``, ``jm_<joint>_n_m``, ``jfn_<joint>_n``,
-the parent body on the child body); for forward dynamics ``energy_j``.
+Their columns (one header row in the CSV, the names made from the series): ``t_s``; the task
+coordinates (``x_mm``, ``y_mm``, ``phi_rad``); every joint coordinate ``q<k>_rad`` with its
+rate ``qd<k>_rad_s`` and, for inverse dynamics, acceleration ``qdd<k>_rad_s2`` (k numbers the
+robot's coordinates, passive joints of closed chains included); the torque at each actuated
+coordinate ``tau<k>_n_m`` (same k); for closed chains the reaction force at each cut joint
+``fx_<joint>_n``, ``fy_<joint>_n`` (N, world axes, on the cut joint's parent body); for inverse
+dynamics every joint's load (``load_series``: ``jfx_<joint>_n``, ``jfy_<joint>_n``,
+``jload_<joint>_n``, ``jm_<joint>_n_m``, ``jfn_<joint>_n``, the parent body on the child body)
+and the power ``p<k>_w``; for forward dynamics ``energy_j``.
 """
 
 from __future__ import annotations
@@ -27,10 +28,10 @@ from ..motion.profiles import JointTrajectory
 from . import spec as specs
 from .builtin import find as find_builtin
 from .columns import coordinates_note as _coordinates_note
-from .columns import task_columns
+from .columns import task_series
 from .motion import initial_state, joint_motion
 from .parameters import with_overrides
-from .result import Result, coordinate_column
+from .result import Result, Series
 from .sizing import size
 
 
@@ -65,7 +66,7 @@ def run(study: str | Path | specs.Study, samples: int | None = None) -> Result:
     Returns
     -------
     Result
-        Columns with units in their names (see the module docstring).
+        Typed series, their columns named with units (see the module docstring).
     """
     st = load_study(study)
     if samples is not None and (not isinstance(samples, (int, np.integer)) or samples < 2):
@@ -86,25 +87,31 @@ def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
     return _inverse(st, robot, jt, x)
 
 
-def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
-    cols = {"t_s": jt.t_s}
-    if x is not None:
-        cols.update(task_columns(robot, x))
+def coordinate_series(robot: Robot, quantity: str, values: np.ndarray,
+                      on=None) -> list[Series]:
+    """``quantity`` (``"q"``, ``"qd"``, ``"qdd"``, ``"tau"``, ...) of every coordinate (``values``
+    shape (N, n)), or of those ``on`` lists (0-based; ``values`` then (N, len(on))), each
+    (N,) in its unit: rad, rad/s, rad/s^2, N*m (m, m/s, m/s^2, N at a slider)."""
+    on = range(robot.n) if on is None else on
     units = robot.coordinate_units
+    return [Series.of_coordinate(quantity, i, units[i], values[:, k]) for k, i in enumerate(on)]
+
+
+def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
+    data = [Series("t", "s", jt.t_s)]
+    if x is not None:
+        data += task_series(robot, x)
     for kind, values in (("q", jt.q), ("qd", jt.qd), ("qdd", jt.qdd)):
-        for i in range(robot.n):
-            cols[coordinate_column(kind, i, units[i])] = values[:, i]
+        data += coordinate_series(robot, kind, values)
     if robot.is_closed_chain:
         tau, lam = robot.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd, t=jt.t_s)
     else:
         tau, lam = robot.inverse_dynamics(jt.q, jt.qd, jt.qdd), None
-    for k, i in enumerate(robot.actuated):
-        cols[coordinate_column("tau", i, units[i])] = tau[:, k]
+    data += coordinate_series(robot, "tau", tau, robot.actuated)
     for k, loop in enumerate(robot.loops):
-        cols[f"fx_{loop}_n"] = lam[:, 2 * k]
-        cols[f"fy_{loop}_n"] = lam[:, 2 * k + 1]
-    cols.update(load_columns(joint_loads(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s,
-                                         inverse=(tau, lam))))
+        data += [Series("fx", "N", lam[:, 2 * k], joint=loop),
+                 Series("fy", "N", lam[:, 2 * k + 1], joint=loop)]
+    data += load_series(joint_loads(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s, inverse=(tau, lam)))
     note = _coordinates_note(robot)
     if robot.is_closed_chain:
         drift = float(np.max(np.abs(robot.constraint(jt.q))))
@@ -119,31 +126,31 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
     split = torque_split(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s)
     sizing = size(robot, jt.t_s, jt.qd, tau)
     for k, i in enumerate(robot.actuated):  # the power each actuator delivers
-        cols[f"p{i + 1}_w"] = tau[:, k] * jt.qd[:, i]
+        data.append(Series("p", "W", tau[:, k] * jt.qd[:, i], index=i))
     over = [e for s in sizing for e in s.exceeded]
     if over:
         note += "; ACTUATOR LIMITS EXCEEDED: " + "; ".join(over)
-    return Result(st.name, st.title, cols, kind="torques", note=note, split=split,
+    return Result(st.name, st.title, data, kind="torques", note=note, split=split,
                   sizing=sizing,
                   robot=robot.name, solver=solver, actuated=robot.actuated)
 
 
-def load_columns(loads: JointLoads) -> dict[str, np.ndarray]:
-    """Every joint's load as columns: ``jfx_<joint>_n``, ``jfy_<joint>_n`` (N, world axes, the
-    parent body on the child body), ``jload_<joint>_n`` (|F|, the bearing load); the reaction
-    couple ``jm_<joint>_n_m`` (N*m) of welds and prismatic joints (a revolute joint's couple is
-    its torque column, or 0 if passive); a prismatic joint's normal force ``jfn_<joint>_n``."""
-    cols = {}
+def load_series(loads: JointLoads) -> list[Series]:
+    """Every joint's load as series of that ``joint``: ``jfx``, ``jfy`` (N, world axes, the
+    parent body on the child body; columns ``jfx_<joint>_n``), ``jload`` (|F|, the bearing
+    load); the reaction couple ``jm`` (N*m) of welds and prismatic joints (a revolute joint's
+    couple is its torque, or 0 if passive); a prismatic joint's normal force ``jfn`` (N)."""
+    out = []
     load = loads.magnitude
     for i, (name, kind) in enumerate(zip(loads.names, loads.types)):
-        cols[f"jfx_{name}_n"] = loads.force[:, i, 0]
-        cols[f"jfy_{name}_n"] = loads.force[:, i, 1]
-        cols[f"jload_{name}_n"] = load[:, i]
+        out += [Series("jfx", "N", loads.force[:, i, 0], joint=name),
+                Series("jfy", "N", loads.force[:, i, 1], joint=name),
+                Series("jload", "N", load[:, i], joint=name)]
         if kind in ("weld", "prismatic"):
-            cols[f"jm_{name}_n_m"] = loads.couple[:, i]
+            out.append(Series("jm", "N*m", loads.couple[:, i], joint=name))
         if kind == "prismatic":
-            cols[f"jfn_{name}_n"] = loads.normal[name]
-    return cols
+            out.append(Series("jfn", "N", loads.normal[name], joint=name))
+    return out
 
 
 def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
@@ -151,16 +158,14 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     t = np.linspace(0.0, s.duration_s, samples or s.samples)
     q0, qd0 = initial_state(st, robot)
     sim = _simulate(st, robot, q0, qd0, t)
-    cols = {"t_s": t}
+    # the run's own series (the same code names a Simulation's columns), in the CSV's order
+    data = [Series("t", "s", t)]
     if robot.task_names:
-        cols.update(task_columns(robot, robot.task(sim.q)[0].reshape(len(t), -1)))
-    for kind, values in (("q", sim.q), ("qd", sim.qd)):
-        for i in range(robot.n):
-            cols[coordinate_column(kind, i, robot.coordinate_units[i])] = values[:, i]
+        data += task_series(robot, robot.task(sim.q)[0].reshape(len(t), -1))
+    data += sim.series("q") + sim.series("qd")
     if s.torque is not None:
-        for k, i in enumerate(robot.actuated):
-            cols[coordinate_column("tau", i, robot.coordinate_units[i])] = sim.tau[:, k]
-    cols["energy_j"] = sim.energy_j
+        data += sim.series("tau")
+    data.append(sim.get("energy"))
     drift = ("energy change (the actuators' friction dissipates it)" if robot.has_friction
              else "energy drift")
     if s.torque is not None:
@@ -174,7 +179,7 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
         # tau = 0 in a free swing: the split shows how M qdd, C qd and g balance each other
         qdd = robot.forward_dynamics(sim.q, sim.qd, np.zeros_like(sim.q))
         split = torque_split(robot, sim.q, sim.qd, qdd)
-    return Result(st.name, st.title, cols, kind="angles", note=note, split=split,
+    return Result(st.name, st.title, data, kind="angles", note=note, split=split,
                   robot=robot.name, actuated=robot.actuated)
 
 
@@ -230,8 +235,7 @@ def motion_and_reference(study: str | Path | specs.Study, frames: int
     if st.kind in ("forward", "control"):
         result = (_forward(st, robot, frames) if st.kind == "forward"
                   else run(st, samples=frames))
-        q = np.column_stack([result.columns[coordinate_column("q", i, robot.coordinate_units[i])]
-                             for i in range(robot.n)])
-        return robot, result.columns["t_s"], q, result.reference
+        q = np.column_stack([result.get("q", index=i).values for i in range(robot.n)])
+        return robot, result.get("t").values, q, result.reference
     jt, _ = joint_motion(st, robot, frames)
     return robot, jt.t_s, jt.q, None
