@@ -17,7 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..model.arrays import as_vector
+from ..model.arrays import as_state, as_vector
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal, from_motion
@@ -241,8 +241,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         if q0 is None:
             raise InputError("give q0 (every coordinate): the reference does not say where "
                              "the passive joints start")
-    q0 = as_vector("q0", q0, n)
-    qd0 = np.zeros(n) if qd0 is None else as_vector("qd0", qd0, n)
+    q0, qd0 = as_state(q0, qd0, n)
     if robot.is_closed_chain:
         q0, qd0 = initial_state(plant, q0, qd0, False)
     specs = joint_limit_events(robot, joint_limits, on_joint_limit)

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import InputError, SimulationError
-from ..model.arrays import as_vector
+from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
 from ..motion.signals import Signal
@@ -90,23 +90,23 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     if not isinstance(robot, Robot):
         raise InputError(f"simulate needs a Robot (planar_sym.load), got {type(robot).__name__}")
     check_tolerances(rtol, atol)
+    q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
+    t = time_grid(t_span, t_eval)
     table = isinstance(torque, Signal)  # evaluated in C by the engine; in Python by SciPy
     if method in ("cvodes", "idas") or (method == "dopri5" and table):
-        return _in_the_engine(robot, q0, qd0, t_span, torque, t_eval, rtol, atol, method,
-                              project)
+        return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, project)
     if table:
         signal = torque
 
         def torque(tt: float) -> np.ndarray:  # SciPy calls it per step, in Python
             return signal(tt)[0]
     if robot.is_closed_chain:
-        from .forward_closed import simulate_closed
+        from .forward_closed import run_closed
 
-        return simulate_closed(robot, q0, qd0, t_span, torque=torque, t_eval=t_eval,
-                               rtol=rtol, atol=atol, method=method, project_state=project)
+        return run_closed(robot, q0, qd0, t, torque=torque, rtol=rtol, atol=atol,
+                          method=method, project_state=project)
     n = robot.n
-    x0 = np.concatenate([as_vector("q0", q0, n), as_vector("qd0", qd0, n)])
-    t = time_grid(t_span, t_eval)
+    x0 = np.concatenate([q0, qd0])
     tau_of = _on_actuated(torque_function(torque, len(robot.actuated)), robot)
     if method == "dopri5" and not callable(torque):
         fd = robot.library.address("forward_dynamics")
@@ -165,15 +165,16 @@ def _on_actuated(tau_of, robot: Robot):
     return expanded
 
 
-def _in_the_engine(robot: Robot, q0, qd0, t_span, torque, t_eval, rtol: float, atol: float,
-                   method: str, project: bool) -> Simulation:
+def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque,
+                   t: np.ndarray, rtol: float, atol: float, method: str,
+                   project: bool) -> Simulation:
     """SUNDIALS in the simulation engine under the open-loop law "none": its Simulation without
-    the control fields (the events it saw kept)."""
+    the control fields (the events it saw kept). ``q0``, ``qd0`` and the output times ``t``
+    (s) are checked already (``simulate``)."""
     from .engine import simulate_controlled
     from .laws import Controller
 
     n = robot.n
-    q0, qd0 = as_vector("q0", q0, n), as_vector("qd0", qd0, n)
     correction = 0.0
     if robot.is_closed_chain and project:
         from .forward_closed import initial_state
@@ -181,12 +182,11 @@ def _in_the_engine(robot: Robot, q0, qd0, t_span, torque, t_eval, rtol: float, a
         q_on, qd0 = initial_state(robot, q0, qd0, project_state=True)
         correction, q0 = float(np.max(np.abs(q_on - q0))), q_on
     act = list(robot.actuated)
-    if torque is not None and not callable(torque) and not isinstance(torque, Signal):
-        if np.ndim(torque) == 0:  # one number for every actuated joint, as the other methods
-            torque = np.full(len(act), torque, dtype=float)
-        torque = as_vector("torque", torque, len(act))  # one per actuated joint
+    if (torque is not None and not callable(torque) and not isinstance(torque, Signal)
+            and np.ndim(torque) == 0):  # one number for every actuated joint, as elsewhere
+        torque = np.full(len(act), torque, dtype=float)  # the engine checks the vector
     run = simulate_controlled(robot, Controller("none"), t_span, q0=q0, qd0=qd0, torque=torque,
-                              t_eval=t_eval, method=method, rtol=rtol, atol=atol)
+                              t_eval=t, method=method, rtol=rtol, atol=atol)
     tau = run.tau
     if not robot.is_closed_chain:  # a tree's torques on every coordinate, 0 at a passive one
         tau = np.zeros((len(run.t_s), n))

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..model.arrays import as_vector
+from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
 from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, partition, solve_passive
@@ -83,15 +83,25 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     far. ``torque`` acts on the actuated joints. The result reports ``constraint_drift_m``, the
     largest |Phi| at any output time.
     """
+    q0, qd0 = as_state(q0, qd0, robot.n)
+    return run_closed(robot, q0, qd0, time_grid(t_span, t_eval), torque=torque, rtol=rtol,
+                      atol=atol, method=method, segment_s=segment_s,
+                      drift_limit_m=drift_limit_m, project_state=project_state)
+
+
+def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, torque=None,
+               rtol: float = 1e-11, atol: float = 1e-12, method: str = "dopri5",
+               segment_s: float = 0.1, drift_limit_m: float = 1e-6,
+               project_state: bool = False):
+    """``simulate_closed`` on inputs checked already: ``q0``, ``qd0`` (n,) in rad, rad/s and
+    the output times ``t`` (N,) in s (what ``forward.simulate``, the entry point, passes)."""
     from scipy.integrate import solve_ivp
 
 
     act, _ = partition(robot)
     n, m = robot.n, robot.n_constraints
-    q_given = as_vector("q0", q0, n)
-    q, qd = initial_state(robot, q_given, as_vector("qd0", qd0, n), project_state)
-    correction = float(np.max(np.abs(q - q_given)))
-    t = time_grid(t_span, t_eval)
+    q, qd = initial_state(robot, q0, qd0, project_state)
+    correction = float(np.max(np.abs(q - q0)))
     tau_of = torque_function(torque, len(act))
     terms = SingleCall(robot.library.functions["constrained_terms"], robot.p)
     kkt = np.zeros((n + m, n + m))

@@ -63,3 +63,23 @@ def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> 
         raise InputError(f"{name}[{k}, {col}] is {arr[k, col]} at sample {k}{when_}: "
                          "inputs must be finite")
     return np.ascontiguousarray(arr)
+
+
+def as_sample_set(width_of: dict[str, int], arrays: dict, *,
+                  times: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+    """Several arrays of one trajectory checked together: each as ``as_samples`` checks it
+    (``width_of[name]`` columns), and all with the same number of samples, which a refusal
+    names. Returns them in ``arrays``' order, each C-contiguous float64 (N, width)."""
+    out = tuple(as_samples(name, a, width_of[name], times=times) for name, a in arrays.items())
+    sizes = {name: len(a) for name, a in zip(arrays, out)}
+    if len(set(sizes.values())) > 1:
+        raise InputError(f"{', '.join(sizes)} must have the same number of samples, got "
+                         + ", ".join(f"{k}: {v}" for k, v in sizes.items()))
+    return out
+
+
+def as_state(q0, qd0, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """An initial state checked at the door: ``q0`` and ``qd0`` as ``as_vector`` checks them
+    (``width`` values each; ``qd0`` None means at rest)."""
+    q0 = as_vector("q0", q0, width)
+    return q0, (np.zeros(width) if qd0 is None else as_vector("qd0", qd0, width))

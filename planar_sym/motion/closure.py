@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, WorkspaceError
-from ..model.arrays import as_samples
+from ..model.arrays import as_sample_set, as_samples, when
 from ..model.library import SingleCall
 from ..model.loops import COND_LIMIT
 from ..model.robot import Robot
@@ -36,16 +36,12 @@ def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     return act, pas
 
 
-def _when(t, k: int) -> str:
-    return f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
-
-
 def _check_cond(robot: Robot, mats: np.ndarray, what: str, t) -> None:
     cond = np.linalg.cond(mats)
     bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
     if bad.any():
         k = int(np.argmax(bad))
-        raise WorkspaceError(f"{robot.name}: singular pose at {_when(t, k)}: the {what} has "
+        raise WorkspaceError(f"{robot.name}: singular pose at {when(t, k)}: the {what} has "
                              f"condition number {cond[k]:.3g} > {COND_LIMIT:g}")
 
 
@@ -76,7 +72,7 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
             jp = jac.reshape(robot.n, m).T[:, pas]
             q[pas] -= np.linalg.solve(jp, phi)
         else:
-            raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {_when(t, k)} "
+            raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {when(t, k)} "
                                  f"for actuated coordinates {np.round(qa, 9).tolist()} "
                                  f"({', '.join(robot.coordinate_units[i] for i in act)}) "
                                  f"(|Phi| = {np.max(np.abs(phi)):.3g} m): outside the workspace")
@@ -97,16 +93,17 @@ def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray
     where Phi_p is singular.
     """
     act, pas = partition(robot)
-    q = as_samples("q", q, robot.n, times=t)
+    q, qd_act, qdd_act = as_sample_set({"q": robot.n, "qd_act": len(act), "qdd_act": len(act)},
+                                       {"q": q, "qd_act": qd_act, "qdd_act": qdd_act}, times=t)
     jac = robot.constraint_jacobian(q)
     jac = jac if jac.ndim == 3 else jac[None]
     _check_cond(robot, jac[:, :, pas], "passive-joint constraint Jacobian Phi_p", t)
     qd = np.zeros_like(q)
-    qd[:, act] = as_samples("qd_act", qd_act, len(act), times=t)
+    qd[:, act] = qd_act
     qd[:, pas] = np.linalg.solve(jac[:, :, pas], -(jac[:, :, act] @ qd[:, act, None]))[..., 0]
     gamma = robot.constraint_bias(q, qd).reshape(len(q), -1)
     qdd = np.zeros_like(q)
-    qdd[:, act] = as_samples("qdd_act", qdd_act, len(act), times=t)
+    qdd[:, act] = qdd_act
     qdd[:, pas] = np.linalg.solve(jac[:, :, pas],
                                   (gamma - (jac[:, :, act] @ qdd[:, act, None])[..., 0])[..., None]
                                   )[..., 0]
