@@ -105,3 +105,19 @@ def test_large_finite_inputs_are_not_mistaken_for_infinities():
     big[2, 1] = np.inf
     with pytest.raises(InputError, match=r"q\[2, 1\] is inf at sample 2"):
         as_samples("q", big, 2)
+
+
+def test_passive_rates_refuse_arrays_of_different_lengths():
+    """complete_rates checks q, qd_act and qdd_act together: a rate array one sample short is
+    named with every array's sample count (before: a numpy broadcasting error, or none at all
+    for one sample against many), and on consistent arrays the rates close the loops."""
+    from planar_sym.motion.closure import complete_rates
+
+    robot = ps.load("five_bar_type1")
+    q = np.tile(robot.q_drawn, (3, 1))
+    with pytest.raises(InputError, match=r"q, qd_act, qdd_act must have the same number of "
+                                         r"samples, got q: 3, qd_act: 2, qdd_act: 3"):
+        complete_rates(robot, q, np.ones((2, 2)), np.ones((3, 2)))
+    qd, _ = complete_rates(robot, q, np.ones((3, 2)), np.zeros((3, 2)))
+    jac = robot.constraint_jacobian(q)
+    assert np.max(np.abs(np.einsum("kij,kj->ki", jac, qd))) < 1e-12  # Phi_q qd = 0
