@@ -8,6 +8,8 @@ a robot's vector is never changed after binding (``Parameters.vector`` is read-o
 
 from __future__ import annotations
 
+from functools import cache
+
 from ..errors import InputError
 from .compile import fastcall
 
@@ -21,31 +23,43 @@ def bind_fast_paths(robot) -> None:
     fast = fastcall()
     if fast is None or robot.library.simd is None:
         return
+    recipes = _recipes(robot.library, type(robot), robot.is_closed_chain,
+                       len(robot.actuated) == robot.n)
+    for attr, (address, sizes, p_slot, outputs, names, doc) in recipes:
+        caller = fast.make(address, sizes, p_slot, outputs, robot.p, InputError, names, doc)
+        setattr(robot, attr, caller)  # instance attribute: no Python frame per call
+
+
+@cache
+def _recipes(library, cls, closed: bool, fully_actuated: bool) -> tuple:
+    """What each caller of a library is made from (addresses, shapes, names, docstring): the
+    same for every robot on that library, so worked out once (a sweep makes a robot per
+    design)."""
     methods = {"mass_matrix": "mass_matrix", "bias": "bias", "gravity": "gravity",
                "tree_inverse_dynamics": "inverse_dynamics", "energy": "energy"}
-    if not robot.is_closed_chain:
+    if not closed:
         methods.update(forward_dynamics="forward_dynamics")
-        if len(robot.actuated) == robot.n:  # else the method refuses (passive joints)
+        if fully_actuated:  # else the method refuses (passive joints)
             methods.update(inverse_dynamics="inverse_dynamics")
     else:
         methods.update(constraint="constraint", constraint_jacobian="constraint_jacobian",
                        constraint_bias="constraint_bias",
                        _closed_inverse_dynamics="closed_inverse_dynamics")
-    functions = robot.library.manifest["functions"]
+    functions = library.manifest["functions"]
     if "body_motion" in functions:  # folders derived before lack it
         methods.update(body_motion="body_motion")
+    out = []
     for attr, quantity in methods.items():
         spec = functions[quantity]
         if "loop" not in spec:  # derive makes loops only for these (codegen.LOOPED)
             continue
         ins = [(name, size) for name, size in spec["inputs"]]
-        names = tuple(name for name, _ in ins if name != "p")
-        method = getattr(type(robot), attr, None)
-        caller = fast.make(
-            robot.library.loop_address(quantity),
+        method = getattr(cls, attr, None)
+        out.append((attr, (
+            library.loop_address(quantity),
             tuple(size for name, size in ins if name != "p"),
             [name for name, _ in ins].index("p"),
             tuple((rows, cols, _KINDS[kind]) for _, rows, cols, kind in spec["outputs"]),
-            robot.p, InputError, names, method.__doc__ if method is not None else spec["doc"])
-        setattr(robot, attr, caller)  # instance attribute: no Python frame per call
-
+            tuple(name for name, _ in ins if name != "p"),
+            method.__doc__ if method is not None else spec["doc"])))
+    return tuple(out)

@@ -118,12 +118,11 @@ class Robot(LoopFunctions):
              "gear_ratio": 1.0, "torque_limit": None, "motor_torque_limit": None,
              "motor_speed_limit_rad_s": None} for i in self.actuated))
         self.q_drawn = np.array(m["q_drawn"])
-        entries = tuple(Parameter(**p) for p in m["parameters"])
         #: the one parameter value of this robot (checked once, read-only: a change makes a
         #: new Robot); the compiled callers read its vector in place
-        self._parameters = (
-            parameters if isinstance(parameters, Parameters) else
-            Parameters(entries, parameters, bodies=self.body_names, owner=self.name))
+        self._parameters = parameters if isinstance(parameters, Parameters) else Parameters(
+            tuple(Parameter(**p) for p in m["parameters"]), parameters,
+            bodies=self.body_names, owner=self.name)
         self._fns = self.library.functions
         #: exact: CasADi's per-sample functions compiled without fast math. Otherwise the
         #: hot methods below are C-level callers of the vectorised loops (same algorithm,
