@@ -223,3 +223,26 @@ def test_a_non_finite_input_is_named_with_its_time(which):
         joint_loads(robot, *arrays.values(), t=np.array([0.0, 0.25, 0.5]))
     assert str(exc.value) == (f"{which}[1, 1] is nan at sample 1 (t = 0.25 s): inputs must be "
                               "finite")
+
+
+@pytest.mark.parametrize("q", [(0.4, -1.1), (-2.0, 0.7), (1.3, 2.9)])
+def test_weights_under_tilted_gravity(q):
+    """At rest under gravity (1.2, -9.7) m/s^2 (bent_arm: every other robot's gravity is along
+    -y, so an x weight term would go unseen): each joint carries minus the weight of every
+    body beyond it, by hand from the masses; the revolute joints' couples are the Lagrangian
+    gravity torques g(q), a second route to the same moments."""
+    robot = ps.load(TEST_ROBOTS / "bent_arm.toml")
+    g_vec = np.array([1.2, -9.7])
+    assert robot.parameters["g"] == pytest.approx(np.hypot(*g_vec), rel=1e-15)
+    mass = {b: robot.parameters[f"m_{b}"] for b in robot.body_names}
+    beyond = {"joint1": ("link1", "bracket", "link2"), "weld_bracket": ("bracket", "link2"),
+              "joint2": ("link2",)}
+    z = np.zeros(2)
+    loads = joint_loads(robot, np.array(q), z, z)
+    assert loads.names == tuple(beyond)
+    for k, name in enumerate(loads.names):
+        want = -sum(mass[b] for b in beyond[name]) * g_vec
+        assert loads.force[0, k] == pytest.approx(want, rel=1e-12, abs=1e-14), name
+    grav = robot.gravity(np.array(q))
+    assert loads.couple[0, 0] == pytest.approx(grav[0], rel=1e-12, abs=1e-14)
+    assert loads.couple[0, 2] == pytest.approx(grav[1], rel=1e-12, abs=1e-14)
