@@ -41,6 +41,18 @@ def refuse_singular(robot_name: str, cond: np.ndarray, t=None) -> None:
                              f"{cond[k]:.3g} > {COND_LIMIT:g}")
 
 
+def refuse_singular_matrices(robot_name: str, mats: np.ndarray, what: str, t=None) -> None:
+    """Refuse the first of ``mats`` (N, m, m) whose 2-norm condition number is above
+    COND_LIMIT (or not finite), naming ``what`` it is and the sample (its time from ``t`` (N,)
+    in s): WorkspaceError."""
+    cond = np.linalg.cond(mats)
+    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise WorkspaceError(f"{robot_name}: singular pose at {when(t, k)}: the {what} has "
+                             f"condition number {cond[k]:.3g} > {COND_LIMIT:g}")
+
+
 def check_on_loops(robot_name: str, loops: tuple[str, ...], phi, phi_v, phi_a, qd, qdd,
                    t=None) -> None:
     """Refuse samples off the loop constraints (the module's limits), naming the first, its

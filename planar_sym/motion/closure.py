@@ -12,7 +12,7 @@ import numpy as np
 from ..errors import InputError, WorkspaceError
 from ..model.arrays import as_sample_set, as_samples, when
 from ..model.library import SingleCall
-from ..model.loops import COND_LIMIT
+from ..model.loops import refuse_singular_matrices
 from ..model.robot import Robot
 from .profiles import JointTrajectory
 
@@ -34,15 +34,6 @@ def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
                          f"loop equations for {robot.n} coordinates: the chain is not exactly "
                          "actuated, so torques are not unique")
     return act, pas
-
-
-def _check_cond(robot: Robot, mats: np.ndarray, what: str, t) -> None:
-    cond = np.linalg.cond(mats)
-    bad = ~np.isfinite(cond) | (cond > COND_LIMIT)
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise WorkspaceError(f"{robot.name}: singular pose at {when(t, k)}: the {what} has "
-                             f"condition number {cond[k]:.3g} > {COND_LIMIT:g}")
 
 
 def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
@@ -97,7 +88,8 @@ def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray
                                        {"q": q, "qd_act": qd_act, "qdd_act": qdd_act}, times=t)
     jac = robot.constraint_jacobian(q)
     jac = jac if jac.ndim == 3 else jac[None]
-    _check_cond(robot, jac[:, :, pas], "passive-joint constraint Jacobian Phi_p", t)
+    refuse_singular_matrices(robot.name, jac[:, :, pas],
+                             "passive-joint constraint Jacobian Phi_p", t)
     qd = np.zeros_like(q)
     qd[:, act] = qd_act
     qd[:, pas] = np.linalg.solve(jac[:, :, pas], -(jac[:, :, act] @ qd[:, act, None]))[..., 0]
