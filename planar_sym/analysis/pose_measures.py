@@ -77,8 +77,7 @@ def pose_measures(robot: Robot, q, length_scale: float) -> dict[str, np.ndarray]
     q = np.atleast_2d(np.asarray(q, dtype=float))
     rows, cols = scales(robot, length_scale)
     K = stacked(robot, q)[0] * rows[:, None] * cols
-    _, pas = _partition(robot)
-    m, act = robot.n_constraints, list(robot.actuated)
+    m, act, pas = robot.n_constraints, list(robot.actuated), list(robot.passive)
     Pp = K[:, :m][:, :, pas]
     inv, _ = _safe_inverse(K)
     sub = inv[:, act][:, :, m:]
@@ -87,11 +86,6 @@ def pose_measures(robot: Robot, q, length_scale: float) -> dict[str, np.ndarray]
     dex[ok] = _ratio(sub[ok])
     return {"det_type1": np.linalg.det(K), "det_type2": np.linalg.det(Pp),
             "type1": _ratio(K), "type2": _ratio(Pp), "dexterity": dex}
-
-
-def _partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    act = np.array(robot.actuated, dtype=int)
-    return act, np.array([i for i in range(robot.n) if i not in robot.actuated], dtype=int)
 
 
 def rest_torques(robot: Robot, q, accel_m_s2: float = 1.0) -> dict[str, np.ndarray]:

@@ -9,7 +9,7 @@ from ..errors import InputError, SimulationError
 from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
-from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, partition, solve_passive
+from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, solve_passive
 from .integrate import (
     SCIPY_METHODS,
     Simulation,
@@ -98,7 +98,7 @@ def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, 
     from scipy.integrate import solve_ivp
 
 
-    act, _ = partition(robot)
+    act = list(robot.actuated)
     n, m = robot.n, robot.n_constraints
     q, qd = initial_state(robot, q0, qd0, project_state)
     correction = float(np.max(np.abs(q - q0)))

@@ -66,6 +66,8 @@ class Robot(LoopFunctions):
         N*m or N.
     actuated : tuple of int
         The actuated coordinates (0-based); the columns of closed-chain torques (actuated,).
+    passive : tuple of int
+        The other coordinates (0-based), without a motor: a closed chain's passive joints.
     actuators : tuple of dict
         Per actuated coordinate: ``joint``, ``coordinate``, ``unit``, ``gear_ratio`` and the
         limits in SI (``torque_limit``, ``motor_torque_limit``, ``motor_speed_limit_rad_s``;
@@ -107,6 +109,9 @@ class Robot(LoopFunctions):
         self.coordinate_units: tuple[str, ...] = (
             tuple(units) if isinstance(units, list) else (units,) * len(self.coordinates))
         self.actuated: tuple[int, ...] = tuple(m["actuated"])
+        #: the coordinates without a motor (0-based), in order: a closed chain's passive joints
+        self.passive: tuple[int, ...] = tuple(i for i in range(len(self.coordinates))
+                                              if i not in self.actuated)
         self.task_names: tuple[str, ...] = tuple(m["task"])
         self.body_names: tuple[str, ...] = tuple(m["bodies"])
         self.n_constraints: int = m["constraints"]
@@ -288,7 +293,7 @@ class Robot(LoopFunctions):
     def _refuse_passive_joints(self) -> None:
         """A tree with a joint that has no motor cannot follow an arbitrary joint trajectory:
         the torque a motorless joint would need is not a number to return."""
-        passive = [c for i, c in enumerate(self.coordinates) if i not in self.actuated]
+        passive = [self.coordinates[i] for i in self.passive]
         if passive:
             raise InputError(
                 f"{self.name}: joint{'s' if len(passive) > 1 else ''} {', '.join(passive)} "

@@ -27,8 +27,7 @@ def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     Returns two integer arrays, shapes (actuated,) and (n - actuated,); InputError unless the
     actuated joints and the loop equations together fix every coordinate.
     """
-    act = np.array(robot.actuated, dtype=int)
-    pas = np.array([i for i in range(robot.n) if i not in robot.actuated], dtype=int)
+    act, pas = np.array(robot.actuated, dtype=int), np.array(robot.passive, dtype=int)
     if len(act) + robot.n_constraints != robot.n:
         raise InputError(f"{robot.name}: {len(act)} actuated joints and {robot.n_constraints} "
                          f"loop equations for {robot.n} coordinates: the chain is not exactly "
