@@ -9,10 +9,18 @@ dividing by zero; it then becomes an absolute error).
 from __future__ import annotations
 
 import shutil
+import signal
 from pathlib import Path
 
 import numpy as np
 import pytest
+
+# A job started in the background of a non-interactive shell (a CI step, `make test &`) inherits
+# SIGINT ignored, and every Python process under it keeps ignoring it: the tests that interrupt a
+# command (Ctrl-C) would see it run to the end. Handled here, SIGINT is reset to its default in
+# every child at exec, so a child interrupts as at a terminal.
+if signal.getsignal(signal.SIGINT) == signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
