@@ -100,7 +100,7 @@ def load_problem(label: str, study: str, t_end: float) -> Problem:
 
 def make_controller(p: Problem, law: str):
     from planar_sym.control import controller
-    from planar_sym.study.control_run import effective_inertia
+    from planar_sym.control.laws import effective_inertia
 
     w = 2.0 * np.pi * BANDWIDTH_HZ
     na = len(p.robot.actuated)

@@ -5,7 +5,8 @@ time it evaluates ``planar_sym.motion.signals``; their public names are re-expor
 from ..dynamics.engine import ControlledRun, simulate_controlled
 from ..dynamics.events import Event
 from ..motion.signals import INTERPOLATIONS, Signal, from_motion, from_table
-from .laws import KINDS, Controller, controller
+from .laws import KINDS, Controller, bandwidth_gains, controller, effective_inertia
 
 __all__ = ["INTERPOLATIONS", "KINDS", "ControlledRun", "Controller", "Event", "Signal",
-           "controller", "from_motion", "from_table", "simulate_controlled"]
+           "bandwidth_gains", "controller", "effective_inertia", "from_motion", "from_table",
+           "simulate_controlled"]

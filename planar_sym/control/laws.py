@@ -12,7 +12,8 @@ import numpy as np
 from ..dynamics.laws import KINDS, MODE, Controller
 from ..errors import InputError
 
-__all__ = ["KINDS", "MAX_GAIN", "MODE", "Controller", "controller"]
+__all__ = ["KINDS", "MAX_GAIN", "MODE", "Controller", "bandwidth_gains", "controller",
+           "effective_inertia"]
 
 #: a gain above this cannot be meant (the step size it forces would stall the integrator)
 MAX_GAIN = 1e9
@@ -65,3 +66,33 @@ def controller(kind: str = "pd", kp=None, kd=None, *, width: int | None = None,
             raise InputError(f"kp[{k}] and kd[{k}] are both 0: that joint has no feedback "
                              "(use controller = \"none\" for an open-loop run)")
     return Controller(kind, kp_, kd_, bool(saturate))
+
+
+def bandwidth_gains(robot, kind: str, q0: np.ndarray, natural_frequency_hz: float,
+                    damping: float) -> tuple[np.ndarray, np.ndarray]:
+    """(kp, kd), each shape (actuated,) in SI, from a natural frequency w = 2 pi f (f in Hz) and
+    damping zeta: computed torque Kp = w^2 (1/s^2), Kd = 2 zeta w (1/s); PD the same times each
+    actuated joint's effective inertia at ``q0`` (n,) (rad; m at a slider): N*m/rad and
+    N*m*s/rad."""
+    na = len(robot.actuated)
+    w = 2.0 * np.pi * natural_frequency_hz
+    kp, kd = np.full(na, w * w), np.full(na, 2.0 * damping * w)
+    if kind == "pd":
+        inertia = effective_inertia(robot, q0)
+        kp, kd = kp * inertia, kd * inertia
+    return kp, kd
+
+
+def effective_inertia(robot, q: np.ndarray) -> np.ndarray:
+    """Diagonal of the mass matrix seen at the actuated joints at pose ``q`` (n,), shape
+    (actuated,) in kg*m^2 (kg at a slider): G^T M G with G (n, actuated) the map from actuated
+    rates to every rate (the loops' for a closed chain)."""
+    n, act = robot.n, list(robot.actuated)
+    M = robot.mass_matrix(q).reshape(n, n)
+    G = np.zeros((n, len(act)))
+    G[act, range(len(act))] = 1.0
+    if robot.is_closed_chain:
+        J = robot.constraint_jacobian(q).reshape(robot.n_constraints, n)
+        pas = list(robot.passive)
+        G[pas] = -np.linalg.solve(J[:, pas], J[:, act])
+    return np.diag(G.T @ M @ G).copy()

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..control import controller as make_controller
+from ..control.laws import bandwidth_gains
 from ..dynamics.engine import simulate_controlled
 from ..dynamics.events import coordinate_index
 from ..dynamics.run_result import Simulation
@@ -85,26 +86,7 @@ def _gains(st: specs.Study, robot: Robot, jt: JointTrajectory):
             if len(v) != 1:
                 check_width(st, key, v, na, "actuated joint (or 1 for all)")
         return np.broadcast_to(cs.kp, (na,)), np.broadcast_to(cs.kd, (na,))
-    w = 2.0 * np.pi * cs.natural_frequency_hz
-    kp, kd = np.full(na, w * w), np.full(na, 2.0 * cs.damping * w)
-    if cs.law == "pd":
-        inertia = effective_inertia(robot, jt.q[0])
-        kp, kd = kp * inertia, kd * inertia
-    return kp, kd
-
-
-def effective_inertia(robot: Robot, q: np.ndarray) -> np.ndarray:
-    """Diagonal of the mass matrix seen at the actuated joints at pose ``q`` (kg m^2 or kg):
-    G^T M G with G the map from actuated rates to every rate (the loops' for a closed chain)."""
-    n, act = robot.n, list(robot.actuated)
-    M = robot.mass_matrix(q).reshape(n, n)
-    G = np.zeros((n, len(act)))
-    G[act, range(len(act))] = 1.0
-    if robot.is_closed_chain:
-        J = robot.constraint_jacobian(q).reshape(robot.n_constraints, n)
-        pas = [i for i in range(n) if i not in act]
-        G[pas] = -np.linalg.solve(J[:, pas], J[:, act])
-    return np.diag(G.T @ M @ G).copy()
+    return bandwidth_gains(robot, cs.law, jt.q[0], cs.natural_frequency_hz, cs.damping)
 
 
 def _start(st: specs.Study, robot: Robot, jt: JointTrajectory):
