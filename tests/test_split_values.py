@@ -192,3 +192,30 @@ def test_exact_numbers_are_read_as_floats():
     floats = torque_split(robot, *(np.array(a, dtype=float) for a in (q, qd, qdd)))
     for k, v in floats.items():
         assert exact[k].dtype == np.float64 and exact[k].tobytes() == v.tobytes(), k
+
+
+def test_split_along_a_simulated_motion_sums_to_the_applied_torques():
+    """split_along (the forward and control studies' split): along a simulated motion under
+    constant torques, the parts sum to the applied torques (to rounding) on a tree with a
+    passive joint (cart-pole: the slider's force only, the hinge left out), a closed chain and
+    a fully actuated arm; on the arm each part equals torque_split at the accelerations the
+    forward dynamics gives, computed here directly."""
+    from conftest import TEST_ROBOTS
+
+    from planar_sym.dynamics.inverse import split_along
+
+    cases = [(ps.load(TEST_ROBOTS / "cart_pole.toml"), [0.0, 0.4], [1.5]),
+             (ps.load("five_bar_type1"), None, [0.02, -0.01]),
+             (ps.load("serial_2dof"), [-1.0, 0.3], [0.05, -0.02])]
+    for robot, q0, tau in cases:
+        q0 = robot.q_drawn if q0 is None else np.array(q0)
+        sim = ps.simulate(robot, q0, np.zeros(robot.n), (0.0, 0.3), torque=tau)
+        applied = sim.tau[:, list(robot.actuated)] if sim.tau.shape[1] == robot.n else sim.tau
+        parts = split_along(robot, sim.q, sim.qd, applied)
+        assert all(v.shape == applied.shape for v in parts.values()), robot.name
+        assert np.max(np.abs(sum(parts.values()) - applied)) < 1e-12, robot.name
+    arm = cases[2][0]
+    qdd = arm.forward_dynamics(sim.q, sim.qd, applied)
+    direct = torque_split(arm, sim.q, sim.qd, qdd)
+    for k, v in parts.items():
+        assert np.array_equal(v, direct[k]), k

@@ -97,3 +97,20 @@ def _through_actuation(robot: Robot, q: np.ndarray, terms: np.ndarray, t) -> np.
     n_act = len(robot.actuated)
     # one solve for all parts: the multipliers' shares are dropped, torques kept
     return np.linalg.solve(a, terms)[:, :n_act, :]
+
+
+def split_along(robot: Robot, q, qd, tau, t=None) -> dict[str, np.ndarray]:
+    """``torque_split`` of a simulated motion: the accelerations the robot's own dynamics give
+    under the actuated torques ``tau`` (N, actuated; N*m or N) at states ``q``, ``qd`` (N, n;
+    rad, rad/s), then the split of those torques, each part (N, actuated). A tree's passive
+    joints get no torque and are left out of the parts (their rows of M qdd + h balance to 0).
+    ``t`` (N,) in s names a refused sample."""
+    act = list(robot.actuated)
+    if robot.is_closed_chain:
+        from .forward_closed import kkt_accelerations
+
+        return torque_split(robot, q, qd, kkt_accelerations(robot, q, qd, tau), t=t)
+    full = np.zeros(np.shape(q))
+    full[:, act] = tau
+    parts = torque_split(robot, q, qd, robot.forward_dynamics(q, qd, full), t=t)
+    return parts if len(act) == robot.n else {k: v[:, act] for k, v in parts.items()}

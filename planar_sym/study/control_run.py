@@ -20,6 +20,7 @@ from ..control import controller as make_controller
 from ..control.laws import bandwidth_gains
 from ..dynamics.engine import simulate_controlled
 from ..dynamics.events import coordinate_index
+from ..dynamics.inverse import split_along
 from ..dynamics.run_result import Simulation
 from ..errors import InputError
 from ..model.robot import Robot
@@ -148,21 +149,6 @@ def torque_input(st: specs.Study, robot: Robot, tq, t_end: float, fld: str):
     return sig
 
 
-def _split(robot: Robot, plant: Robot, run: Simulation) -> dict[str, np.ndarray]:
-    """The applied torques split into M qdd, C qd, g, friction and rotors along the motion the
-    plant made (its accelerations from its own dynamics); {} for an arm with passive joints."""
-    from ..dynamics.forward_closed import kkt_accelerations
-    from ..dynamics.inverse import torque_split
-
-    if robot.is_closed_chain:
-        qdd = kkt_accelerations(plant, run.q, run.qd, run.tau)
-    elif len(robot.actuated) == robot.n:
-        qdd = plant.forward_dynamics(run.q, run.qd, run.tau)
-    else:
-        return {}
-    return torque_split(plant, run.q, run.qd, qdd, t=run.t_s)
-
-
 def _result(st: specs.Study, robot: Robot, plant: Robot, run: Simulation,
             ref_full: Signal) -> Result:
     t = run.t_s
@@ -209,7 +195,8 @@ def _result(st: specs.Study, robot: Robot, plant: Robot, run: Simulation,
     if run.events:
         note += "; EVENTS: " + "; ".join(str(e) for e in run.events)
     sizing = size(plant, t, run.qd, run.tau)
-    split = _split(robot, plant, run)
+    # the applied torques split along the motion the plant made (its own dynamics)
+    split = split_along(plant, run.q, run.qd, run.tau, t=run.t_s)
     return Result(st.name, st.title, data, kind="control", note=note, split=split,
                   robot=robot.name,
                   actuated=robot.actuated, sizing=sizing, reference=q_ref_full,

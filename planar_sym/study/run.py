@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.inverse import torque_split
+from ..dynamics.inverse import split_along, torque_split
 from ..dynamics.reactions import JointLoads, joint_loads
 from ..errors import InputError
 from ..model.locate import load
@@ -177,8 +177,7 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     split = {}
     if not robot.is_closed_chain and s.torque is None:
         # tau = 0 in a free swing: the split shows how M qdd, C qd and g balance each other
-        qdd = robot.forward_dynamics(sim.q, sim.qd, np.zeros_like(sim.q))
-        split = torque_split(robot, sim.q, sim.qd, qdd)
+        split = split_along(robot, sim.q, sim.qd, np.zeros((len(t), len(robot.actuated))))
     return Result(st.name, st.title, data, kind="angles", note=note, split=split,
                   robot=robot.name, actuated=robot.actuated)
 
