@@ -412,3 +412,19 @@ def test_a_closed_chain_under_rk45(five):
     assert np.max(np.abs(five.constraint(run.q))) < 1e-9
     with pytest.raises(InputError, match="project_state=True"):  # not projected: refused
         ps.simulate(*args, method="RK45", t_eval=FIVE_T)
+
+
+@pytest.mark.parametrize("method", ["cvodes", "idas"])
+def test_an_open_loop_run_in_the_engine_has_no_control_fields(arm, method):
+    """An open-loop run through the engine is the same type as a controlled one, without the
+    control fields: no reference, command, work, friction or controller (None), and the same
+    columns as the C integrator's run of the same swing (whose values it matches to 1e-6)."""
+    q0 = np.radians([-60.0, 0.0])
+    t = np.linspace(0.0, 0.5, 51)
+    run = ps.simulate(arm, q0, [0.0, 0.0], (0.0, 0.5), t_eval=t, method=method, rtol=1e-10,
+                      atol=1e-12)
+    ref = ps.simulate(arm, q0, [0.0, 0.0], (0.0, 0.5), t_eval=t, rtol=1e-12, atol=1e-14)
+    for name in ("q_ref", "qd_ref", "tau_cmd", "work_j", "friction_j", "controller"):
+        assert getattr(run, name) is None, name
+    assert list(run.columns()) == list(ref.columns())
+    assert np.max(np.abs(run.q - ref.q)) < 1e-6
