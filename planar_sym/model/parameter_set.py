@@ -131,8 +131,7 @@ class Parameters(Mapping):
             if not np.isfinite(p[self._index[name]]):
                 raise InputError(f"{head}{self.owner}: parameter {name} must be finite (got "
                                  f"{value!r})")
-        out = Parameters(self.entries, bodies=self.bodies, owner=self.owner)
-        out.vector = _frozen(p)
+        out = self._sibling(p)
         out.check(where)
         return out
 
@@ -142,11 +141,14 @@ class Parameters(Mapping):
         its designs' columns at once with ``model.parameters.failing``, the same rules)."""
         if not checked:
             return Parameters(self.entries, vector, bodies=self.bodies, owner=self.owner)
-        out = Parameters(self.entries, bodies=self.bodies, owner=self.owner)
-        out.vector = _frozen(as_samples("parameters", vector, len(self.entries))[0].copy())
+        return self._sibling(as_samples("parameters", vector, len(self.entries))[0].copy())
+
+    def _sibling(self, vector: np.ndarray) -> Parameters:
+        """The same parameters with ``vector`` (a float64 copy of its own, as given: checked by
+        the caller), sharing entries and index (no derived values built to be replaced)."""
+        out = object.__new__(Parameters)
+        out.entries, out.bodies, out.owner, out._index = (self.entries, self.bodies, self.owner,
+                                                          self._index)
+        vector.flags.writeable = False
+        out.vector = vector
         return out
-
-
-def _frozen(v: np.ndarray) -> np.ndarray:
-    v.flags.writeable = False
-    return v
