@@ -41,8 +41,10 @@ def test_parameters_are_a_read_only_mapping(arm):
     assert p == dict(p) and len(p) == len(arm.parameter_list)
     with pytest.raises(ValueError, match="read-only"):
         arm.p[0] = 1.0
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match=r"read-only .* robot.with_parameters\(g=1.0\)"):
         p["g"] = 1.0  # type: ignore[index]
+    with pytest.raises(InputError, match=r"parameter m_link1 must be a number in kg \(SI; "):
+        arm.with_parameters(m_link1="2 kg")  # a unit typed into the API, which takes SI
 
 
 def test_a_changed_robot_computes_with_its_own_values(arm):

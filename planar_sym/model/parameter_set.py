@@ -93,6 +93,11 @@ class Parameters(Mapping):
     def __iter__(self) -> Iterator[str]:
         return iter(self._index)
 
+    def __setitem__(self, name: str, value) -> None:
+        raise TypeError(f"{self.owner}: parameters are read-only (a robot is an immutable "
+                        f"model): robot.with_parameters({name}={value!r}) gives a robot with "
+                        "the new value")
+
     def __len__(self) -> int:
         return len(self.entries)
 
@@ -126,8 +131,8 @@ class Parameters(Mapping):
             try:
                 p[self._index[name]] = float(value)
             except (TypeError, ValueError, OverflowError):
-                raise InputError(f"{head}parameter {name} must be a number (got "
-                                 f"{value!r})") from None
+                raise InputError(f"{head}parameter {name} must be a number in "
+                                 f"{self.unit(name)} (SI; got {value!r})") from None
             if not np.isfinite(p[self._index[name]]):
                 raise InputError(f"{head}{self.owner}: parameter {name} must be finite (got "
                                  f"{value!r})")
