@@ -31,6 +31,7 @@ __all__ = [
     "PlanarSymError",
     "Robot",
     "SimulationError",
+    "Tracking",
     "Trajectory",
     "WorkspaceError",
     "atlas",
@@ -39,6 +40,7 @@ __all__ = [
     "equations",
     "export",
     "from_actuated",
+    "inverse_along",
     "inverse_kinematics",
     "load",
     "load_study",
@@ -49,6 +51,7 @@ __all__ = [
     "simulate_controlled",
     "studies",
     "sweep",
+    "track",
     "validate",
     "write_result",
 ]
@@ -63,6 +66,8 @@ _LAZY = {"simulate": ("dynamics.forward", "simulate"),
          "validate": ("analysis.validate", "run_all"),
          "simulate_controlled": ("dynamics.engine", "simulate_controlled"),
          "controller": ("control.laws", "controller"),
+         "inverse_along": ("dynamics.along", "inverse_along"),
+         "track": ("control.track", "track"), "Tracking": ("control.track", "Tracking"),
          "sweep": ("analysis.sweep", "sweep"), "atlas": ("analysis.atlas", "atlas"),
          "show": ("outputs.notebook", "show"), "export": ("outputs.export", "write")}
 

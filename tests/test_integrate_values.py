@@ -250,11 +250,15 @@ def test_constant_torques():
     assert torque_function([1, 2], 2)(5.0).dtype == np.float64
     with pytest.raises(InputError) as info:
         torque_function("abc", 2)
-    assert message(info) == ("torque must be None, 2 numbers (N*m) or a function of time (got "
-                             "'abc': could not convert string to float: 'abc')")
-    with pytest.raises(InputError, match=re.escape(
-            "torque must be None, 2 numbers (N*m) or a function of time (got [1, 2, 3]: ")):
+    rule = ("torque must be None, 2 numbers (N*m; N at a slider), one for every actuated joint, "
+            "or a function of time")
+    assert message(info) == f"{rule} (got 'abc': could not convert string to float: 'abc')"
+    with pytest.raises(InputError) as info:
         torque_function([1, 2, 3], 2)
+    assert message(info) == f"{rule} (got shape (3,): [1. 2. 3.])"
+    with pytest.raises(InputError) as info:
+        torque_function([[1, 2]], 2)  # one row of a table is not a constant
+    assert message(info) == f"{rule} (got shape (1, 2): [[1. 2.]])"
     with pytest.raises(InputError) as info:
         torque_function([None, 1], 2)
     assert message(info) == "torque must be finite (got [nan, 1.0])"

@@ -1,4 +1,4 @@
-"""Actuator sizing (planar_sym.study.sizing) by value: RMS and peak torques against closed
+"""Actuator sizing (planar_sym.dynamics.sizing) by value: RMS and peak torques against closed
 forms and against the result's own columns recomputed here.
 
 - synthetic torques through ``size``: a constant torque's RMS is its magnitude (3.5 and 2.5
@@ -29,8 +29,8 @@ import pytest
 from conftest import ROOT
 
 import planar_sym as ps
+from planar_sym.dynamics.sizing import ActuatorSizing, size, table
 from planar_sym.study.run import run
-from planar_sym.study.sizing import ActuatorSizing, size, table
 
 TOL = 1e-14
 _trapezoid = getattr(np, "trapezoid", None) or np.trapz

@@ -6,7 +6,7 @@
   the model's ``[parameters]`` and the plant's ``[control.plant]``.
 * With actuator models (``examples/serial_2dof_geared.toml``: N = 50, rotors, friction) an
   inverse-dynamics sweep has the motor side per actuator, each design at its own gear ratio,
-  equal to ``study.sizing.size`` of the design's own run (``Result.sizing``) on every route.
+  equal to ``dynamics.sizing.size`` of the design's own run (``Result.sizing``) on every route.
 """
 
 from __future__ import annotations

@@ -21,7 +21,7 @@ plant's value of every varied parameter beside the model's (``plant_<name>_<unit
 
 For a robot with actuator models (``[joints.actuator]``), an inverse-dynamics sweep also has the
 motor side per actuator, at each design's own gear ratio N (a swept ``gear_<joint>`` included),
-as ``study.sizing.size`` computes it for one run: peak and RMS motor torque (tau / N; the RMS by
+as ``dynamics.sizing.size`` computes it for one run: peak and RMS motor torque (tau / N; the RMS by
 the trapezoidal rule over time), peak motor speed (N max|qd|, rpm) and peak power max|tau qd|
 (W). These need every sample: the C loop's per-design min/max/mean square cannot give them, so
 the shared-motion route makes a second pass over the designs in chunks of ``MOTOR_CHUNK``, each

@@ -1,5 +1,5 @@
 """Sweeps' motor-side figures: per actuator and design, peak and RMS motor torque (with each
-design's own gear ratio), peak motor speed and peak power, as ``study.sizing`` gives them for
+design's own gear ratio), peak motor speed and peak power, as ``dynamics.sizing`` gives them for
 one run (the trapezoidal RMS, the per-sample product tau qd)."""
 
 from __future__ import annotations
@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics.series import coordinate_unit
+from ..dynamics.sizing import RPM
 from ..model.robot import Robot
-from ..study.sizing import RPM
 from .figures import Figure
 
 #: designs per numpy pass of the motor-side figures (their torques at every sample, designs x

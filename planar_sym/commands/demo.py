@@ -99,7 +99,7 @@ def index_text(results, robots: list[str]) -> str:
             ("CSV", ".csv"), ("plot", ".png"), ("split", "_split.png"),
             ("animation", ".gif")))
         lines.append(f"| `{r.name}` | {r.summary} | {peaks_text(r)} | {files} |")
-    from ..study.sizing import table
+    from ..dynamics.sizing import table
 
     sized = [r for r in results if r.sizing]
     if sized:

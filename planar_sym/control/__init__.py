@@ -1,4 +1,5 @@
-"""Robots under control: the laws and their gains (``laws``). The simulation engine that runs
+"""Robots under control: the laws and their gains (``laws``), tracking a motion from one typed
+request (``track``: ``Tracking`` in, ``Tracked`` out). The simulation engine that runs
 them is ``planar_sym.dynamics.engine`` (with the events and SUNDIALS beside it), the signals of
 time it evaluates ``planar_sym.motion.signals``; their public names are re-exported here."""
 
@@ -6,7 +7,22 @@ from ..dynamics.engine import ControlledRun, simulate_controlled
 from ..dynamics.events import Event
 from ..motion.signals import INTERPOLATIONS, Signal, from_motion, from_table
 from .laws import KINDS, Controller, bandwidth_gains, controller, effective_inertia
+from .track import Tracked, Tracking, track
 
-__all__ = ["INTERPOLATIONS", "KINDS", "ControlledRun", "Controller", "Event", "Signal",
-           "bandwidth_gains", "controller", "effective_inertia", "from_motion", "from_table",
-           "simulate_controlled"]
+__all__ = [
+           "INTERPOLATIONS",
+           "KINDS",
+           "ControlledRun",
+           "Controller",
+           "Event",
+           "Signal",
+           "Tracked",
+           "Tracking",
+           "bandwidth_gains",
+           "controller",
+           "effective_inertia",
+           "from_motion",
+           "from_table",
+           "simulate_controlled",
+           "track",
+]

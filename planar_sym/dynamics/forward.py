@@ -32,6 +32,7 @@ from .integrate import (
     Simulation,
     Torque,
     check_tolerances,
+    check_torque,
     dopri5,
     labels,
     time_grid,
@@ -90,8 +91,9 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     if not isinstance(robot, Robot):
         raise InputError(f"simulate needs a Robot (planar_sym.load), got {type(robot).__name__}")
     check_tolerances(rtol, atol)
-    q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
     t = time_grid(t_span, t_eval)
+    torque = check_torque(torque, len(robot.actuated))  # one rule for every route below
+    q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
     table = isinstance(torque, Signal)  # evaluated in C by the engine; in Python by SciPy
     if method in ("cvodes", "idas") or (method == "dopri5" and table):
         return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, project)
@@ -182,9 +184,6 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
         q_on, qd0 = initial_state(robot, q0, qd0, project_state=True)
         correction, q0 = float(np.max(np.abs(q_on - q0))), q_on
     act = list(robot.actuated)
-    if (torque is not None and not callable(torque) and not isinstance(torque, Signal)
-            and np.ndim(torque) == 0):  # one number for every actuated joint, as elsewhere
-        torque = np.full(len(act), torque, dtype=float)  # the engine checks the vector
     run = simulate_controlled(robot, Controller("none"), t_span, q0=q0, qd0=qd0, torque=torque,
                               t_eval=t, method=method, rtol=rtol, atol=atol)
     tau = run.tau

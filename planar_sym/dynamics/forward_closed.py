@@ -9,7 +9,7 @@ from ..errors import InputError, SimulationError
 from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
-from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, solve_passive
+from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_state
 from .integrate import (
     SCIPY_METHODS,
     Simulation,
@@ -42,9 +42,7 @@ def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: 
     """The user's initial state, checked on the loops; or, asked, its passive joints solved."""
     if project_state:
         act = list(robot.actuated)
-        q = solve_passive(robot, q0[act][None], q_guess=q0)[0]
-        qd, _ = complete_rates(robot, q[None], qd0[act][None], np.zeros((1, len(act))))
-        return q, qd[0]
+        return complete_state(robot, q0[act], qd0[act], q_guess=q0)
     jac = robot.constraint_jacobian(q0).reshape(robot.n_constraints, robot.n)
     phi = robot.constraint(q0).reshape(1, -1)
     zero = np.zeros((1, robot.n_constraints))

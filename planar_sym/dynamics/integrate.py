@@ -16,10 +16,11 @@ import numpy as np
 from ..errors import InputError, SimulationError
 from ..model.compile import load_helper
 from ..model.robot import Robot
+from ..motion.signals import Signal
 from .run_result import Simulation, labels
 
-__all__ = ["SCIPY_METHODS", "Simulation", "Torque", "check_tolerances", "dopri5", "helper",
-           "integrator", "labels", "time_grid", "torque_function"]
+__all__ = ["SCIPY_METHODS", "Simulation", "Torque", "check_tolerances", "check_torque", "dopri5",
+           "helper", "integrator", "labels", "time_grid", "torque_function"]
 
 Torque = None | float | np.ndarray | Callable[[float], np.ndarray]
 SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
@@ -42,14 +43,34 @@ def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:
                                  f"expected {n} finite values (N*m)")
             return tau
         return checked
+    rule = (f"torque must be None, {n} numbers (N*m; N at a slider), one for every actuated "
+            "joint, or a function of time")
     try:
-        const = np.broadcast_to(np.asarray(torque, dtype=float), (n,)).copy()
+        arr = np.asarray(torque, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"torque must be None, {n} numbers (N*m) or a function of time "
-                         f"(got {torque!r}: {exc})") from None
+        raise InputError(f"{rule} (got {torque!r}: {exc})") from None
+    if arr.shape not in ((), (1,), (n,)):
+        raise InputError(f"{rule} (got shape {arr.shape}: "
+                         f"{np.array2string(arr, threshold=8)})")
+    const = np.broadcast_to(arr, (n,)).copy()
     if not np.all(np.isfinite(const)):
         raise InputError(f"torque must be finite (got {const.tolist()})")
     return lambda t: const
+
+
+def check_torque(torque, n: int):
+    """A run's torque input checked once, by one rule on every route (the C integrator, the
+    engine, SciPy): None; a function of time (checked as it is called); a Signal of ``n``
+    channels; or constant torques, one number for every actuated joint or ``n`` of them,
+    returned as a float (n,) array (N*m; N at a slider)."""
+    if torque is None or (callable(torque) and not isinstance(torque, Signal)):
+        return torque
+    if isinstance(torque, Signal):
+        if torque.channels != n:
+            raise InputError(f"the torque table has {torque.channels} columns for {n} "
+                             "actuated joints")
+        return torque
+    return torque_function(torque, n)(0.0)
 
 
 def check_tolerances(rtol, atol) -> None:

@@ -74,6 +74,8 @@ def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
     """
     q, qd, qdd = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (q, qd, qdd))
     n_s, n = q.shape
+    # a closed chain's torques come through [S^T Phi_q^T] (refused by time where singular)
+    a = actuation_matrix(robot, q, t) if robot.is_closed_chain else None
     drives = robot.drive_train
     links = robot.with_parameters(**{f"jm_{d.joint}": 0.0 for d in drives.drives
                                      if d.rotor_inertia}) if drives.has_rotors else robot
@@ -86,17 +88,9 @@ def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
              if drives.has_rotors else np.zeros((n_s, n)))
     terms = np.stack([(mass @ qdd[..., None])[..., 0], h - g - friction, g, friction, rotor],
                      axis=-1)  # (N, n, parts)
-    if robot.is_closed_chain:
-        terms = _through_actuation(robot, q, terms, t)
+    if a is not None:  # one solve for all parts: the multipliers' shares dropped, torques kept
+        terms = np.linalg.solve(a, terms)[:, :len(robot.actuated), :]
     return {k: terms[:, :, i] for i, k in enumerate(SPLIT_PARTS)}
-
-
-def _through_actuation(robot: Robot, q: np.ndarray, terms: np.ndarray, t) -> np.ndarray:
-    """Actuated-torque share of each column of ``terms`` (N, n, parts), as in closed_chain."""
-    a = actuation_matrix(robot, q, t)
-    n_act = len(robot.actuated)
-    # one solve for all parts: the multipliers' shares are dropped, torques kept
-    return np.linalg.solve(a, terms)[:, :n_act, :]
 
 
 def split_along(robot: Robot, q, qd, tau, t=None) -> dict[str, np.ndarray]:
@@ -109,8 +103,12 @@ def split_along(robot: Robot, q, qd, tau, t=None) -> dict[str, np.ndarray]:
     if robot.is_closed_chain:
         from .forward_closed import kkt_accelerations
 
-        return torque_split(robot, q, qd, kkt_accelerations(robot, q, qd, tau), t=t)
-    full = np.zeros(np.shape(q))
-    full[:, act] = tau
-    parts = torque_split(robot, q, qd, robot.forward_dynamics(q, qd, full), t=t)
-    return parts if len(act) == robot.n else {k: v[:, act] for k, v in parts.items()}
+        qdd = kkt_accelerations(robot, q, qd, tau)
+    else:
+        full = np.zeros(np.shape(q))
+        full[:, act] = tau
+        qdd = robot.forward_dynamics(q, qd, full)
+    parts = torque_split(robot, q, qd, qdd, t=t)
+    if robot.is_closed_chain or len(act) == robot.n:
+        return parts
+    return {k: v[:, act] for k, v in parts.items()}

@@ -200,11 +200,10 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
     ``closed_chain_inverse_dynamics``, which also gives the cut forces and refuses samples off
     the loops or at a singular pose.
     """
-    n_q = robot.n
+    n_q, s = robot.n, _structure(robot)
     q, qd, qdd = (as_samples(k, a, n_q, times=t) for k, a in (("q", q), ("qd", qd),
                                                               ("qdd", qdd)))
     n_s = len(q)
-    s = _structure(robot)
     if robot.is_closed_chain:
         tau_act, lam = inverse or robot.closed_chain_inverse_dynamics(q, qd, qdd, t=t)
         tau = np.zeros((n_s, n_q))

@@ -120,3 +120,13 @@ def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> Join
     q = solve_passive(robot, q_act, q_guess, t)
     qd, qdd = complete_rates(robot, q, qd_act, qdd_act, t)
     return JointTrajectory(np.asarray(t), q, qd, qdd)
+
+
+def complete_state(robot: Robot, q_act, qd_act, q_guess=None) -> tuple[np.ndarray, np.ndarray]:
+    """One state of a closed chain from its actuated joints: every coordinate (n,) on the loops
+    (Newton from ``q_guess``, default the drawn configuration) and every rate (n,) from
+    ``Phi_q qd = 0``; ``q_act``, ``qd_act`` (actuated,) in rad, rad/s (m, m/s at a slider)."""
+    n_act = len(robot.actuated)
+    jt = from_actuated(robot, np.zeros(1), np.reshape(q_act, (1, -1)),
+                       np.reshape(qd_act, (1, -1)), np.zeros((1, n_act)), q_guess)
+    return jt.q[0], jt.qd[0]

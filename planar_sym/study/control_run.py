@@ -16,97 +16,60 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..control import controller as make_controller
-from ..control.laws import bandwidth_gains
-from ..dynamics.engine import simulate_controlled
+from ..control.track import Tracked, Tracking, track
 from ..dynamics.events import coordinate_index
-from ..dynamics.inverse import split_along
-from ..dynamics.run_result import Simulation
 from ..errors import InputError
 from ..model.robot import Robot
-from ..motion.profiles import JointTrajectory
-from ..motion.signals import Signal, from_motion, from_table
+from ..motion.signals import from_motion, from_table
 from . import spec as specs
 from .columns import coordinates_note, task_series
 from .motion import check_width, coordinate_scale, joint_motion
 from .parameters import with_overrides
 from .result import Result, Series, coordinate_column
-from .sizing import size
-
-#: a reference that ends moving cannot be held: its end rates must be this small (SI/s)
-REST_TOL = 1e-9
 
 
 def run_control(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
     cs = st.control
     where = str(st.path or st.name)
-    plant = robot
-    if cs.plant:
-        plant = with_overrides(robot, cs.plant, f"{where}: control.plant")
+    # the study read into one request in SI (its fields checked here, by name), then tracked
+    plant = with_overrides(robot, cs.plant, f"{where}: control.plant") if cs.plant else None
+    kp, kd = _given_gains(st, robot)
+    start_error, limits = _start_error(st, robot), _limits(st, robot)
     jt, _ = joint_motion(st, robot)
-    t_end = cs.duration_s or float(jt.t_s[-1])
-    ref_full = _reference(jt, t_end, where)
-    act = list(robot.actuated)
-    ref = Signal(ref_full.knots_s, np.ascontiguousarray(ref_full.coefficients[:, act]))
-    ctl = make_controller(cs.law, *_gains(st, robot, jt), width=len(act), saturate=cs.saturate)
-    q0, qd0 = _start(st, robot, jt)
-    t = np.linspace(0.0, t_end, samples or cs.samples)
-    limits = _limits(st, robot)
-    run = simulate_controlled(
-        robot, ctl, (0.0, t_end), reference=ref, plant=plant, q0=q0, qd0=qd0,
-        torque=torque_input(st, robot, st.control.torque, t_end, "control.torque"), t_eval=t, joint_limits=limits,
+    # a torque input must cover the run: to the motion's end if no duration is given
+    torque = torque_input(st, robot, cs.torque, cs.duration_s or float(jt.t_s[-1]),
+                          "control.torque")
+    done = track(robot, Tracking(
+        motion=jt, law=cs.law, kp=kp, kd=kd, natural_frequency_hz=cs.natural_frequency_hz,
+        damping=cs.damping, saturate=cs.saturate, samples=samples or cs.samples,
+        duration_s=cs.duration_s, start_error=start_error, torque=torque, joint_limits=limits,
         on_joint_limit=st.events.on_joint_limit, on_actuator_limit=st.events.on_actuator_limit,
-        method=cs.method, rtol=cs.rtol, atol=cs.atol)
-    return _result(st, robot, plant, run, ref_full)
+        plant=plant, method=cs.method, rtol=cs.rtol, atol=cs.atol, where=where))
+    return _result(st, robot, done)
 
 
-def _reference(jt: JointTrajectory, t_end: float, where: str) -> Signal:
-    """Every coordinate's reference as quintic Hermite polynomials; held after its end."""
-    ref = from_motion(jt.t_s, jt.q, jt.qd, jt.qdd)
-    if t_end > jt.t_s[-1] + 1e-12:
-        moving = np.max(np.abs(jt.qd[-1]))  # (a cubic ends with an acceleration: held, it jumps)
-        if moving > REST_TOL:
-            raise InputError(f"{where}: control.duration {t_end:g} s outlasts the motion "
-                             f"({jt.t_s[-1]:g} s), which ends moving ({moving:.3g} per s): "
-                             "the reference cannot be held; end the motion at rest or shorten "
-                             "control.duration")
-        ref = ref.hold_until(t_end)
-    return ref
-
-
-def _gains(st: specs.Study, robot: Robot, jt: JointTrajectory):
-    """(kp, kd) SI: as given, or from the natural frequency w and damping zeta: computed
-    torque Kp = w^2, Kd = 2 zeta w; PD the same times each actuated joint's effective inertia
-    at the start (for a closed chain, of the motion reduced to the actuated joints)."""
+def _given_gains(st: specs.Study, robot: Robot):
+    """(kp, kd) SI as the study gives them, each (actuated,); (None, None) for the law "none"
+    or when a natural frequency sets them (``control.track``: computed torque Kp = w^2,
+    Kd = 2 zeta w; PD the same times each actuated joint's effective inertia at the start)."""
     cs = st.control
     na = len(robot.actuated)
-    if cs.law == "none":
+    if cs.law == "none" or cs.kp is None:
         return None, None
-    if cs.kp is not None:
-        for key, v in (("control.kp", cs.kp), ("control.kd", cs.kd)):
-            if len(v) != 1:
-                check_width(st, key, v, na, "actuated joint (or 1 for all)")
-        return np.broadcast_to(cs.kp, (na,)), np.broadcast_to(cs.kd, (na,))
-    return bandwidth_gains(robot, cs.law, jt.q[0], cs.natural_frequency_hz, cs.damping)
+    for key, v in (("control.kp", cs.kp), ("control.kd", cs.kd)):
+        if len(v) != 1:
+            check_width(st, key, v, na, "actuated joint (or 1 for all)")
+    return np.broadcast_to(cs.kp, (na,)), np.broadcast_to(cs.kd, (na,))
 
 
-def _start(st: specs.Study, robot: Robot, jt: JointTrajectory):
-    """On the reference, or off it by ``control.start_error`` on the actuated joints (the
-    loops then give the passive joints)."""
-    q0, qd0 = jt.q[0].copy(), jt.qd[0].copy()
+def _start_error(st: specs.Study, robot: Robot):
+    """``control.start_error`` on the actuated joints in SI, or None."""
     err = st.control.start_error
     if err is None:
-        return q0, qd0
+        return None
     act = list(robot.actuated)
     check_width(st, "control.start_error", err, len(act), "actuated joint")
-    q0[act] += np.array(err) * coordinate_scale(st, robot)[act]
-    if robot.is_closed_chain:
-        from ..motion.closure import complete_rates, solve_passive
-
-        q0 = solve_passive(robot, q0[act][None], q_guess=jt.q[0])[0]
-        qd, _ = complete_rates(robot, q0[None], qd0[act][None], np.zeros((1, len(act))))
-        qd0 = qd[0]
-    return q0, qd0
+    return np.array(err) * coordinate_scale(st, robot)[act]
 
 
 def _limits(st: specs.Study, robot: Robot) -> dict:
@@ -149,15 +112,14 @@ def torque_input(st: specs.Study, robot: Robot, tq, t_end: float, fld: str):
     return sig
 
 
-def _result(st: specs.Study, robot: Robot, plant: Robot, run: Simulation,
-            ref_full: Signal) -> Result:
+def _result(st: specs.Study, robot: Robot, done: Tracked) -> Result:
+    run = done.run
     t = run.t_s
     units = robot.coordinate_units
     data = [Series("t", "s", t)]
-    q_ref_full = ref_full(t)
-    if robot.task_names:
-        x = robot.task(run.q)[0].reshape(len(t), -1)
-        x_ref = robot.task(q_ref_full)[0].reshape(len(t), -1)
+    q_ref_full = done.reference(t)
+    if done.x is not None:
+        x, x_ref = done.x, done.x_ref
         data += task_series(robot, x) + task_series(robot, x_ref, "_ref")
         xy = [i for i, nm in enumerate(robot.task_names) if nm != "phi"]
         data.append(Series("e_task", "mm",
@@ -194,10 +156,7 @@ def _result(st: specs.Study, robot: Robot, plant: Robot, run: Simulation,
         note += f"; loop residual max |Phi| = {run.constraint_drift_m:.1e} m"
     if run.events:
         note += "; EVENTS: " + "; ".join(str(e) for e in run.events)
-    sizing = size(plant, t, run.qd, run.tau)
-    # the applied torques split along the motion the plant made (its own dynamics)
-    split = split_along(plant, run.q, run.qd, run.tau, t=run.t_s)
-    return Result(st.name, st.title, data, kind="control", note=note, split=split,
+    return Result(st.name, st.title, data, kind="control", note=note, split=done.split,
                   robot=robot.name,
-                  actuated=robot.actuated, sizing=sizing, reference=q_ref_full,
+                  actuated=robot.actuated, sizing=done.sizing, reference=q_ref_full,
                   events=run.events)

@@ -21,17 +21,16 @@ def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
     """
     m = st.motion
     tr = trajectory(st, robot, samples) if t is None else profile_at(st, robot, np.asarray(t))
+    q_start = start_pose(st, robot)  # picks the assembly (and working) mode
     if m.space == "task":
         from ..motion.ik import inverse_kinematics
 
-        q_start = start_pose(st, robot)
         jt = inverse_kinematics(robot, tr, solver=m.ik, q_start=q_start)
         return jt, tr.x
     if robot.is_closed_chain:
         from ..motion.closure import from_actuated
 
-        guess = start_pose(st, robot)
-        jt = from_actuated(robot, tr.t_s, tr.x, tr.xd, tr.xdd, q_guess=guess)
+        jt = from_actuated(robot, tr.t_s, tr.x, tr.xd, tr.xdd, q_guess=q_start)
     else:
         jt = JointTrajectory(tr.t_s, tr.x, tr.xd, tr.xdd)
     return jt, (robot.task(jt.q)[0] if robot.task_names else None)
@@ -61,27 +60,23 @@ def start_pose(st: specs.Study, robot: Robot) -> np.ndarray | None:
     return q
 
 
-def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray]:
-    """(q0, qd0) in rad and rad/s. A closed chain's q0 is every coordinate, on the loops, or
-    its actuated joints only: the loops then give the passive ones (Newton from the drawn
-    pose), and qd0 (actuated joints too) the passive rates."""
-    s = st.simulation
+def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray, bool]:
+    """(q0, qd0, project): every coordinate's start in rad and rad/s. A closed chain's q0 is
+    every coordinate, on the loops, or its actuated joints only: the simulation then solves
+    the passive ones from the loops (``project``: Newton from the drawn pose) and their rates
+    from qd0 (actuated joints too)."""
+    s, scale = st.simulation, coordinate_scale(st, robot)
     n_act = len(robot.actuated)
     if robot.is_closed_chain and len(s.q0) == n_act:
-        from ..motion.closure import complete_rates, solve_passive
-
-        scale = coordinate_scale(st, robot)[list(robot.actuated)]
-        qa = np.array(s.q0) * scale
+        act = list(robot.actuated)
         qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0)
         check_width(st, "simulation.qd0", qda, n_act, "actuated joint")
-        qda = qda * scale
-        q0 = solve_passive(robot, qa[None])[0]
-        qd0, _ = complete_rates(robot, q0[None], qda[None], np.zeros((1, n_act)))
-        return q0, qd0[0]
+        q0, qd0 = np.array(robot.q_drawn, dtype=float), np.zeros(robot.n)
+        q0[act], qd0[act] = np.array(s.q0) * scale[act], qda * scale[act]
+        return q0, qd0, True
     what = "coordinate (or actuated joint, for a closed chain)" if robot.is_closed_chain \
         else "coordinate"
     check_width(st, "simulation.q0", s.q0, robot.n, what)
-    scale = coordinate_scale(st, robot)
     q0 = np.array(s.q0) * scale
     qd0 = np.zeros(robot.n) if s.qd0 is None else np.array(s.qd0)
     check_width(st, "simulation.qd0", qd0, robot.n, "coordinate")
@@ -94,7 +89,7 @@ def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray
                              f"Phi_q qd0 = {np.max(rate):.3g} m/s (limit {STATE_GAP_M:g}); give "
                              f"the actuated joints' rates only ({n_act} values) and the loops "
                              "give the rest")
-    return q0, qd0
+    return q0, qd0, False
 
 
 def _check_loops(st, robot: Robot, fld: str, q: np.ndarray, limit: float) -> None:

@@ -29,7 +29,7 @@ class Result:
     drive train's friction ``D(qd)`` and rotors), each (N, actuated) in N*m, summing to the
     torques; it is not written to the CSV. ``solver`` names
     the inverse kinematics that ran; ``actuated`` the actuated coordinates (0-based); ``sizing``
-    one ``study.sizing.ActuatorSizing`` per actuator (peaks, RMS, power, energy, limits
+    one ``dynamics.sizing.ActuatorSizing`` per actuator (peaks, RMS, power, energy, limits
     exceeded with the time), inverse dynamics only.
 
     Attributes
@@ -70,7 +70,7 @@ class Result:
     robot: str = ""
     solver: str = ""
     actuated: tuple[int, ...] = ()
-    #: what each actuator must deliver (inverse dynamics; ``study.sizing``), () otherwise
+    #: what each actuator must deliver (inverse dynamics; ``dynamics.sizing``), () otherwise
     sizing: tuple = ()
     #: control studies: every coordinate's reference at ``t_s`` (N, n; rad or m), to draw
     reference: np.ndarray | None = None

@@ -19,8 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.inverse import split_along, torque_split
-from ..dynamics.reactions import JointLoads, joint_loads
+from ..dynamics.along import inverse_along
+from ..dynamics.inverse import split_along
+from ..dynamics.reactions import JointLoads
 from ..errors import InputError
 from ..model.locate import load
 from ..model.robot import Robot
@@ -32,7 +33,6 @@ from .columns import task_series
 from .motion import initial_state, joint_motion
 from .parameters import with_overrides
 from .result import Result, Series
-from .sizing import size
 
 
 def load_study(study: str | Path | specs.Study) -> specs.Study:
@@ -98,40 +98,34 @@ def coordinate_series(robot: Robot, quantity: str, values: np.ndarray,
 
 
 def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
+    inv = inverse_along(robot, jt.t_s, jt.q, jt.qd, jt.qdd)
     data = [Series("t", "s", jt.t_s)]
     if x is not None:
         data += task_series(robot, x)
     for kind, values in (("q", jt.q), ("qd", jt.qd), ("qdd", jt.qdd)):
         data += coordinate_series(robot, kind, values)
-    if robot.is_closed_chain:
-        tau, lam = robot.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd, t=jt.t_s)
-    else:
-        tau, lam = robot.inverse_dynamics(jt.q, jt.qd, jt.qdd), None
-    data += coordinate_series(robot, "tau", tau, robot.actuated)
+    data += coordinate_series(robot, "tau", inv.tau, robot.actuated)
     for k, loop in enumerate(robot.loops):
-        data += [Series("fx", "N", lam[:, 2 * k], joint=loop),
-                 Series("fy", "N", lam[:, 2 * k + 1], joint=loop)]
-    data += load_series(joint_loads(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s, inverse=(tau, lam)))
+        data += [Series("fx", "N", inv.cut_forces[:, 2 * k], joint=loop),
+                 Series("fy", "N", inv.cut_forces[:, 2 * k + 1], joint=loop)]
+    data += load_series(inv.loads)
+    data += [Series("p", "W", inv.power_w[:, k], index=i)  # the power each actuator delivers
+             for k, i in enumerate(robot.actuated)]
     note = _coordinates_note(robot)
-    if robot.is_closed_chain:
-        drift = float(np.max(np.abs(robot.constraint(jt.q))))
-        note += (f"; loop residual max |Phi| = {drift:.1e} m; f*: force on the cut joint's "
-                 "parent body")
+    if inv.loop_residual_m is not None:
+        note += (f"; loop residual max |Phi| = {inv.loop_residual_m:.1e} m; f*: force on the "
+                 "cut joint's parent body")
     note += "; jf*, jm*: joint loads, parent on child (world axes; jload = |jf|)"
     solver = getattr(jt, "solver", "")
     if st.motion.space == "joint" and robot.is_closed_chain:
         solver = "passive joints from the loops (Newton, continued)"
     if solver:
         note += f"; {'inverse kinematics' if st.motion.space == 'task' else 'joints'}: {solver}"
-    split = torque_split(robot, jt.q, jt.qd, jt.qdd, t=jt.t_s)
-    sizing = size(robot, jt.t_s, jt.qd, tau)
-    for k, i in enumerate(robot.actuated):  # the power each actuator delivers
-        data.append(Series("p", "W", tau[:, k] * jt.qd[:, i], index=i))
-    over = [e for s in sizing for e in s.exceeded]
+    over = [e for s in inv.sizing for e in s.exceeded]
     if over:
         note += "; ACTUATOR LIMITS EXCEEDED: " + "; ".join(over)
-    return Result(st.name, st.title, data, kind="torques", note=note, split=split,
-                  sizing=sizing,
+    return Result(st.name, st.title, data, kind="torques", note=note, split=inv.split,
+                  sizing=inv.sizing,
                   robot=robot.name, solver=solver, actuated=robot.actuated)
 
 
@@ -156,12 +150,14 @@ def load_series(loads: JointLoads) -> list[Series]:
 def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     s = st.simulation
     t = np.linspace(0.0, s.duration_s, samples or s.samples)
-    q0, qd0 = initial_state(st, robot)
-    sim = _simulate(st, robot, q0, qd0, t)
+    inputs = "" if s.torque is None else "; input torques " + _input_note(s.torque)
+    q0, qd0, project = initial_state(st, robot)
+    sim = _simulate(st, robot, q0, qd0, t, project)
     # the run's own series (the same code names a Simulation's columns), in the CSV's order
     data = [Series("t", "s", t)]
-    if robot.task_names:
-        data += task_series(robot, robot.task(sim.q)[0].reshape(len(t), -1))
+    x = robot.task(sim.q)[0].reshape(len(t), -1) if robot.task_names else None
+    if x is not None:
+        data += task_series(robot, x)
     data += sim.series("q") + sim.series("qd")
     if s.torque is not None:
         data += sim.series("tau")
@@ -171,9 +167,7 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     if s.torque is not None:
         drift = "energy change (the input torques do work)"
     note = (f"{_coordinates_note(robot)}; {drift} {sim.energy_drift:.2e} (relative), "
-            f"{sim.method} rtol {sim.rtol:g}")
-    if s.torque is not None:
-        note += "; input torques " + _input_note(s.torque)
+            f"{sim.method} rtol {sim.rtol:g}{inputs}")
     split = {}
     if not robot.is_closed_chain and s.torque is None:
         # tau = 0 in a free swing: the split shows how M qdd, C qd and g balance each other
@@ -182,7 +176,7 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
                   robot=robot.name, actuated=robot.actuated)
 
 
-def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
+def _simulate(st: specs.Study, robot: Robot, q0, qd0, t, project: bool):
     """A forward run through ``dynamics.forward.simulate``, the one entry point (constant
     torques in the C integrator, a table or a profile and SUNDIALS in the engine, SciPy with
     the table evaluated in Python). ``tau`` comes back on the actuated joints."""
@@ -192,7 +186,7 @@ def _simulate(st: specs.Study, robot: Robot, q0, qd0, t):
     s = st.simulation
     u = torque_input(st, robot, s.torque, s.duration_s, "simulation.torque")
     sim = simulate(robot, q0, qd0, (0.0, s.duration_s), t_eval=t, torque=u,
-                   method=s.method, rtol=s.rtol, atol=s.atol)
+                   method=s.method, rtol=s.rtol, atol=s.atol, project=project)
     act = list(robot.actuated)
     tau = sim.tau[:, act] if sim.tau.shape[1] == robot.n and len(act) < robot.n else sim.tau
     return replace(sim, tau=tau)  # on the actuated joints, as the engine gives them

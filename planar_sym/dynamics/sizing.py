@@ -32,7 +32,33 @@ _trapezoid = getattr(np, "trapezoid", None) or np.trapz
 
 @dataclass(frozen=True)
 class ActuatorSizing:
-    """What one actuator must deliver over a motion (SI; ``unit`` is N*m or N at the joint)."""
+    """What one actuator must deliver over a motion (SI; ``unit`` is N*m or N at the joint).
+
+    Attributes
+    ----------
+    joint : str
+        The actuated joint's name.
+    coordinate : int
+        Its coordinate (0-based index into q).
+    unit : str
+        ``"N*m"`` (revolute) or ``"N"`` (prismatic): the joint-side torque's unit.
+    gear_ratio : float
+        N: motor speed / joint speed (1 without an actuator model).
+    peak_torque, rms_torque : float
+        Largest |tau| and the RMS (trapezoidal rule) at the joint, in ``unit``.
+    peak_motor_torque_n_m, rms_motor_torque_n_m : float
+        The same at the motor, tau / N (N*m; through a screw at a slider).
+    peak_speed : float
+        Largest |qd| at the joint (rad/s; m/s at a slider).
+    peak_motor_speed_rad_s : float
+        Largest motor speed N |qd| (rad/s); ``peak_motor_speed_rpm`` in rpm.
+    peak_power_w, mean_power_w : float
+        Largest |tau qd| and the net energy over the duration (W).
+    energy_j : float
+        Net work delivered over the motion (J).
+    exceeded : tuple of str
+        One sentence per limit of the description the motion exceeds, with the first time.
+    """
 
     joint: str
     coordinate: int  # 0-based index into q
@@ -51,6 +77,7 @@ class ActuatorSizing:
 
     @property
     def peak_motor_speed_rpm(self) -> float:
+        """The largest motor speed in rpm."""
         return self.peak_motor_speed_rad_s * RPM
 
 

@@ -1,0 +1,67 @@
+"""Everything inverse dynamics says along one joint motion, in one typed value: the actuated
+torques, the cut-joint forces of a closed chain, every joint's load, the torque split, the
+power and what each actuator must deliver. A study turns it into series; the API gets it from
+``inverse_along`` in one call (each quantity computed once, from the same samples)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.robot import Robot
+from .inverse import torque_split
+from .reactions import JointLoads, joint_loads
+from .sizing import ActuatorSizing, size
+
+
+@dataclass(frozen=True)
+class InverseAlong:
+    """Inverse dynamics along samples ``t_s`` (N,) of a joint motion (SI).
+
+    Attributes
+    ----------
+    tau : ndarray, shape (N, actuated)
+        The actuated joints' torques (N*m; N at a slider), ``robot.actuated`` order.
+    cut_forces : ndarray, shape (N, 2 * loops), or None
+        A closed chain's lambda (N, world x and y, on each cut joint's parent body); None for a
+        tree.
+    loads : JointLoads
+        Every joint's force and couple (parent body on child body).
+    split : dict of str to ndarray
+        ``torque_split``: the parts of ``tau``, each (N, actuated) in N*m.
+    sizing : tuple of ActuatorSizing
+        Peaks, RMS, power, energy and limits exceeded, one per actuator.
+    power_w : ndarray, shape (N, actuated)
+        tau * qd at each actuated joint (W).
+    loop_residual_m : float or None
+        A closed chain's largest |Phi(q)| over the samples (m); None for a tree.
+    """
+
+    tau: np.ndarray
+    cut_forces: np.ndarray | None
+    loads: JointLoads
+    split: dict
+    sizing: tuple[ActuatorSizing, ...]
+    power_w: np.ndarray
+    loop_residual_m: float | None
+
+
+def inverse_along(robot: Robot, t_s, q, qd, qdd) -> InverseAlong:
+    """Inverse dynamics of ``robot`` along the samples ``t_s`` (N,) in s of the motion ``q``,
+    ``qd``, ``qdd`` (N, n: every coordinate, rad or m; on the loops for a closed chain); a
+    sample off the loops or at a singular pose is refused by its time."""
+    t = np.asarray(t_s, dtype=float)
+    if robot.is_closed_chain:
+        tau, lam = robot.closed_chain_inverse_dynamics(q, qd, qdd, t=t)
+        residual = float(np.max(np.abs(robot.constraint(q))))
+    else:
+        tau, lam, residual = robot.inverse_dynamics(q, qd, qdd), None, None
+    loads = joint_loads(robot, q, qd, qdd, t=t, inverse=(tau, lam))
+    act = list(robot.actuated)
+    tau_act = tau if tau.shape[1] == len(act) else tau[:, act]
+    return InverseAlong(tau=tau_act, cut_forces=lam, loads=loads,
+                        split=torque_split(robot, q, qd, qdd, t=t),
+                        sizing=size(robot, t, qd, tau_act),
+                        power_w=tau_act * np.asarray(qd)[:, act],
+                        loop_residual_m=residual)
