@@ -136,3 +136,15 @@ def test_a_request_that_cannot_run_is_refused_by_name(pendulum):
         track(pendulum, Tracking(moving, law="pd"))
     assert str(info.value) == ("Tracking: law 'pd' needs gains kp and kd, or "
                                "natural_frequency_hz (and damping) to set them")
+    # tried as a user: these reached NumPy's ValueError and an AttributeError
+    with pytest.raises(InputError) as info:
+        track(pendulum, Tracking(moving, law="pd", kp=[10.0], kd=[1.0],
+                                 start_error=np.array([0.05, 0.1])))
+    assert str(info.value) == "start_error must have shape (N, 1) or (1,), got (2,)"
+    with pytest.raises(InputError) as info:
+        track(pendulum, Tracking(moving.q, law="pd", kp=[10.0], kd=[1.0]))
+    assert str(info.value) == ("Tracking: motion must be a JointTrajectory (every coordinate: "
+                               "inverse_kinematics, from_actuated), got ndarray")
+    with pytest.raises(InputError) as info:
+        track(pendulum, Tracking(moving, law="pd", kp=[10.0, 2.0], kd=[1.0]))
+    assert str(info.value) == "kp must be one number (one actuated joint) (got [10.0, 2.0])"

@@ -25,8 +25,9 @@ def _gains(name: str, value, width: int | None) -> tuple[float, ...]:
         arr = arr.reshape(-1) if width is None and arr.ndim <= 1 else \
             np.broadcast_to(arr, (width,))
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be one number or {width or 'several'} numbers, one per "
-                         f"actuated joint (got {value!r})") from None
+        many = ("one number (one actuated joint)" if width == 1 else
+                f"one number or {width or 'several'} numbers, one per actuated joint")
+        raise InputError(f"{name} must be {many} (got {value!r})") from None
     for k, v in enumerate(arr):
         if not np.isfinite(v):
             raise InputError(f"{name}[{k}] is {v}: gains must be finite")

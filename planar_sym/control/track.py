@@ -16,6 +16,7 @@ from ..dynamics.inverse import split_along
 from ..dynamics.run_result import Simulation
 from ..dynamics.sizing import ActuatorSizing, size
 from ..errors import InputError
+from ..model.arrays import as_vector
 from ..model.robot import Robot
 from ..motion.closure import complete_state
 from ..motion.profiles import JointTrajectory
@@ -118,9 +119,15 @@ class Tracked:
 def track(robot: Robot, req: Tracking) -> Tracked:
     """Run ``req`` with ``robot`` as the controller's model (see the module docstring)."""
     jt = req.motion
+    if not isinstance(jt, JointTrajectory):
+        raise InputError(f"{req.where or 'Tracking'}: motion must be a JointTrajectory (every "
+                         "coordinate: inverse_kinematics, from_actuated), got "
+                         f"{type(jt).__name__}")
+    act = list(robot.actuated)
+    error = None if req.start_error is None else as_vector(
+        "start_error", req.start_error, len(act))  # one value per actuated joint
     t_end = req.duration_s or float(jt.t_s[-1])
     ref_full = reference(jt, t_end, req.where)
-    act = list(robot.actuated)
     ref = Signal(ref_full.knots_s, np.ascontiguousarray(ref_full.coefficients[:, act]))
     kp, kd = req.kp, req.kd
     if req.law != "none" and kp is None:
@@ -132,9 +139,9 @@ def track(robot: Robot, req: Tracking) -> Tracked:
     # the start: on the reference, or off it on the actuated joints (the loops then give a
     # closed chain's passive joints and rates)
     q0, qd0 = jt.q[0].copy(), jt.qd[0].copy()
-    if req.start_error is not None:
-        q0[act] += req.start_error
-    if req.start_error is not None and robot.is_closed_chain:
+    if error is not None:
+        q0[act] += error
+    if error is not None and robot.is_closed_chain:
         q0, qd0 = complete_state(robot, q0[act], qd0[act], q_guess=jt.q[0])
     plant = req.plant or robot
     run = simulate_controlled(
