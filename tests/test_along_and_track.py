@@ -65,6 +65,19 @@ def test_inverse_along_a_pendulum_is_its_closed_form(pendulum):
     assert s.energy_j == pytest.approx(energy[-1] - energy[0], rel=1e-6, abs=1e-7)
 
 
+def test_inverse_along_checks_its_times(pendulum):
+    q = np.zeros((3, 1))
+    with pytest.raises(InputError) as info:
+        ps.inverse_along(pendulum, [0.0, 0.1], q, q, q)
+    assert str(info.value) == "t_s has 2 times for 3 samples of q"
+    with pytest.raises(InputError) as info:
+        ps.inverse_along(pendulum, [0.0, "a", 0.2], q, q, q)
+    assert str(info.value).startswith("t_s must be an array of numbers")
+    # times given as integers are times in s all the same
+    whole = ps.inverse_along(pendulum, [0, 1, 2], q, q, q)
+    assert whole.sizing[0].energy_j == 0.0 and whole.tau.dtype == np.float64
+
+
 def test_inverse_along_a_closed_chain_balances_power(five):
     t = np.linspace(0.0, 0.5, 101)
     start = np.array(five.q_drawn)[list(five.actuated)]
@@ -148,3 +161,94 @@ def test_a_request_that_cannot_run_is_refused_by_name(pendulum):
     with pytest.raises(InputError) as info:
         track(pendulum, Tracking(moving, law="pd", kp=[10.0, 2.0], kd=[1.0]))
     assert str(info.value) == "kp must be one number (one actuated joint) (got [10.0, 2.0])"
+
+
+def test_every_field_of_the_request_reaches_the_engine():
+    """A request whose every field changes the run (plant, input torques, joint limits that
+    fire and go on, an actuator limit that stops, SUNDIALS, tolerances, no saturation, a start
+    already moving): track's run is the engine's run on the same arguments, bit for bit."""
+    from planar_sym.control import controller, from_table, simulate_controlled
+
+    robot = ps.load(ROBOTS / "actuated_2dof.toml")
+    t = np.linspace(0.0, 1.0, 51)
+    q0 = np.array(robot.q_drawn, dtype=float)
+    v = np.array([0.4, -0.6])  # rad/s: the motion starts moving
+    jt = JointTrajectory(t, q0 + t[:, None] * v, np.tile(v, (51, 1)), np.zeros((51, 2)))
+    plant = robot.with_parameters(m_link2=1.3 * robot.parameters["m_link2"])
+    limits = {"q2": (q0[1] - 0.2, q0[1] + 1.0)}
+    ramp = from_table([0.0, 0.5, 1.0], [[0.0, 0.0], [0.0, 0.0], [30.0, -0.04]], "linear")
+    req = Tracking(jt, law="pd", kp=[2.0, 30.0], kd=[0.2, 1.5], saturate=False, samples=51,
+                   torque=ramp, joint_limits=limits,
+                   on_joint_limit="continue", on_actuator_limit="stop", plant=plant,
+                   method="cvodes", rtol=1e-9, atol=1e-11)
+    done = track(robot, req)
+    direct = simulate_controlled(
+        robot, controller("pd", [2.0, 30.0], [0.2, 1.5], width=2, saturate=False), (0.0, 1.0),
+        reference=jt, plant=plant, q0=jt.q[0], qd0=jt.qd[0], torque=ramp,
+        t_eval=t, joint_limits={1: limits["q2"]}, on_joint_limit="continue",
+        on_actuator_limit="stop", method="cvodes", rtol=1e-9, atol=1e-11)
+    run = done.run
+    assert run.q.shape == direct.q.shape and np.max(np.abs(run.q - direct.q)) < 1e-12
+    assert np.max(np.abs(run.tau - direct.tau)) < 1e-12
+    assert [str(e) for e in run.events] == [str(e) for e in direct.events]
+    assert any(not e.stopped for e in run.events) and run.events[-1].stopped
+    assert run.t_s[-1] < 1.0  # the actuator limit stopped it
+    assert (run.method, run.rtol, run.atol, run.controller.saturate) == ("cvodes", 1e-9, 1e-11,
+                                                                          False)
+    assert np.array_equal(run.qd[0], v)
+    # the motion's end is the run's end when no duration is given
+    free = track(robot, Tracking(jt, law="pd", kp=[40.0, 30.0], kd=[2.0, 1.5], samples=11))
+    assert free.run.t_s[-1] == 1.0 and len(free.run.t_s) == 11
+
+
+def test_pd_gains_from_a_bandwidth_use_the_start_pose_and_open_loop_needs_none():
+    arm = ps.load("serial_2dof")
+    t = np.linspace(0.0, 1.0, 11)
+    q0 = np.array([-1.0, 0.5])
+    v = np.array([0.0, 2.0])  # the elbow moves: the shoulder's inertia changes at once
+    jt = JointTrajectory(t, q0 + t[:, None] * v, np.tile(v, (11, 1)), np.zeros((11, 2)))
+    done = track(arm, Tracking(jt, law="pd", natural_frequency_hz=2.0, damping=0.7, samples=11))
+    mass = arm.mass_matrix(q0).reshape(2, 2)
+    w = 2 * np.pi * 2.0
+    assert np.max(np.abs(done.run.controller.kp - np.diag(mass) * w * w)) < 1e-12
+    assert np.max(np.abs(done.run.controller.kd - np.diag(mass) * 2 * 0.7 * w)) < 1e-12
+    # the law "none" takes no gains, only input torques; a robot with no task has no x
+    cart = ps.load(ROBOTS / "cart_pole.toml")
+    still = JointTrajectory(t, np.zeros((11, 2)), np.zeros((11, 2)), np.zeros((11, 2)))
+    done = track(cart, Tracking(still, law="none", torque=np.array([1.0]), samples=11))
+    assert done.x is None and done.x_ref is None
+    # open loop: the input force is applied as given, and its work is the energy gained
+    assert np.all(done.run.tau == 1.0)
+    assert abs(done.run.balance_residual) < 1e-8
+
+
+def test_a_start_off_the_reference_keeps_the_reference_assembly_mode(five):
+    """The other assembly mode of the five-bar (passive joints near -2.62, 2.62 rad, the drawn
+    pose's near -1.52, 1.52): started off the reference, the loops are solved from the
+    reference's own pose, never from the drawn one."""
+    t = np.linspace(0.0, 0.5, 51)
+    act, pas = list(five.actuated), list(five.passive)
+    guess = np.array(five.q_drawn, dtype=float)
+    guess[pas] = [-2.62, 2.62]
+    jt = from_actuated(five, t, *quintic(t, guess[act], [0.1, -0.1], 0.5), q_guess=guess)
+    assert np.max(np.abs(jt.q[0, pas] - [-2.624842, 2.624842])) < 1e-5
+    done = track(five, Tracking(jt, law="pd", kp=[50.0, 50.0], kd=[2.0, 2.0],
+                                start_error=np.array([0.01, 0.01]), samples=11))
+    assert np.max(np.abs(done.run.q[0, pas] - jt.q[0, pas])) < 0.05
+
+
+def test_holding_the_end_is_refused_only_past_the_rest_tolerance(pendulum):
+    t = np.linspace(0.0, 1.0, 11)
+    q = np.zeros((11, 1))
+    end_rate = np.zeros((11, 1))
+    end_rate[-1] = 1e-9  # REST_TOL exactly: at rest
+    jt = JointTrajectory(t, q, end_rate, q)
+    done = track(pendulum, Tracking(jt, law="pd", kp=[10.0], kd=[1.0], duration_s=1.5,
+                                    samples=4))
+    assert done.run.t_s[-1] == 1.5
+    with pytest.raises(InputError) as info:
+        track(pendulum, Tracking(JointTrajectory(t, q, 2 * end_rate, q), law="pd", kp=[10.0],
+                                 kd=[1.0], duration_s=1.5, where="s.toml"))
+    assert str(info.value).startswith("s.toml: control.duration 1.5 s outlasts the motion "
+                                      "(1 s), which ends moving (2e-09 per s)")
+    assert str(info.value).endswith("shorten control.duration")

@@ -183,6 +183,12 @@ def test_singular_pose_refused_by_the_one_norm_condition_number_with_its_time():
     with pytest.raises(WorkspaceError) as exc:
         split_along(robot, q, zero, np.zeros((len(q), len(robot.actuated))), t=t)
     assert str(exc.value) == timed
+    # inverse dynamics along the motion (an inverse study) refuses it first, by its time too
+    from planar_sym.dynamics.along import inverse_along
+
+    with pytest.raises(WorkspaceError) as exc:
+        inverse_along(robot, t, q, zero, zero)
+    assert str(exc.value) == timed
     # the neighbours pass: 0.01 rad from the dead centre is a condition number of 500
     assert _condition_numbers(robot, 0.01)[0] == pytest.approx(500.0, rel=1e-3)
     parts = torque_split(robot, q[[0, 2]], zero[:2], zero[:2], t=t[[0, 2]])

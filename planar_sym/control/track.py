@@ -165,11 +165,11 @@ def reference(jt: JointTrajectory, t_end: float, where: str) -> Signal:
     ref = from_motion(jt.t_s, jt.q, jt.qd, jt.qdd)
     if t_end > jt.t_s[-1] + 1e-12:
         moving = np.max(np.abs(jt.qd[-1]))  # (a cubic ends with an acceleration: held, it jumps)
-        if moving > REST_TOL:
-            name = f"{where}: control.duration" if where else "duration_s"
-            raise InputError(f"{name} {t_end:g} s outlasts the motion "
-                             f"({jt.t_s[-1]:g} s), which ends moving ({moving:.3g} per s): "
-                             f"the reference cannot be held; end the motion at rest or shorten "
-                             f"{name.split(': ')[-1]}")
+        if moving > REST_TOL:  # a study names its file and field, the API its argument
+            fld = "control.duration" if where else "duration_s"
+            raise InputError(f"{where + ': ' if where else ''}{fld} {t_end:g} s outlasts the "
+                             f"motion ({jt.t_s[-1]:g} s), which ends moving ({moving:.3g} per "
+                             f"s): the reference cannot be held; end the motion at rest or "
+                             f"shorten {fld}")
         ref = ref.hold_until(t_end)
     return ref

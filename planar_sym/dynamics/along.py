@@ -9,6 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
+from ..model.arrays import as_samples
 from ..model.robot import Robot
 from .inverse import torque_split
 from .reactions import JointLoads, joint_loads
@@ -51,17 +53,21 @@ def inverse_along(robot: Robot, t_s, q, qd, qdd) -> InverseAlong:
     """Inverse dynamics of ``robot`` along the samples ``t_s`` (N,) in s of the motion ``q``,
     ``qd``, ``qdd`` (N, n: every coordinate, rad or m; on the loops for a closed chain); a
     sample off the loops or at a singular pose is refused by its time."""
-    t = np.asarray(t_s, dtype=float)
+    t = as_samples("t_s", np.reshape(t_s, (-1, 1)) if np.ndim(t_s) == 1 else t_s, 1)[:, 0]
+    n_samples = len(np.atleast_2d(q))
+    if len(t) != n_samples:
+        raise InputError(f"t_s has {len(t)} times for {n_samples} samples of q")
+    # the torques first: they refuse a sample off the loops or at a singular pose by its time,
+    # so the loads and the split below see checked samples (and reuse these torques)
     if robot.is_closed_chain:
         tau, lam = robot.closed_chain_inverse_dynamics(q, qd, qdd, t=t)
         residual = float(np.max(np.abs(robot.constraint(q))))
-    else:
+    else:  # a tree with a passive joint is refused here: its torques are not unique
         tau, lam, residual = robot.inverse_dynamics(q, qd, qdd), None, None
     loads = joint_loads(robot, q, qd, qdd, t=t, inverse=(tau, lam))
     act = list(robot.actuated)
-    tau_act = tau if tau.shape[1] == len(act) else tau[:, act]
-    return InverseAlong(tau=tau_act, cut_forces=lam, loads=loads,
+    return InverseAlong(tau=tau, cut_forces=lam, loads=loads,
                         split=torque_split(robot, q, qd, qdd, t=t),
-                        sizing=size(robot, t, qd, tau_act),
-                        power_w=tau_act * np.asarray(qd)[:, act],
+                        sizing=size(robot, t, qd, tau),
+                        power_w=tau * np.asarray(qd, dtype=float)[:, act],
                         loop_residual_m=residual)
