@@ -246,3 +246,31 @@ def test_weights_under_tilted_gravity(q):
     grav = robot.gravity(np.array(q))
     assert loads.couple[0, 0] == pytest.approx(grav[0], rel=1e-12, abs=1e-14)
     assert loads.couple[0, 2] == pytest.approx(grav[1], rel=1e-12, abs=1e-14)
+
+
+def test_a_given_inverse_is_used_as_given_for_one_sample_and_many():
+    """``inverse=`` hands joint_loads the inverse dynamics it would compute (not computed
+    twice): for one sample given 1-D, as the robot returns it for a 1-D q, the loads equal
+    those computed from scratch; a different tau given is the drive torque reported (so it is
+    used, not recomputed)."""
+    for name in ("serial_2dof", "five_bar_type1"):
+        robot = ps.load(name)
+        q = np.array(robot.q_drawn, dtype=float)
+        qd, qdd = np.linspace(0.1, 0.4, robot.n), np.linspace(-0.3, 0.2, robot.n)
+        if robot.is_closed_chain:  # on the loops: the actuated rates give the rest
+            from planar_sym.motion.closure import from_actuated
+
+            act = list(robot.actuated)
+            jt = from_actuated(robot, [0.0], q[act][None], qd[act][None], qdd[act][None])
+            q, qd, qdd = jt.q[0], jt.qd[0], jt.qdd[0]
+            inverse = robot.closed_chain_inverse_dynamics(q, qd, qdd)
+        else:
+            inverse = (robot.tree_inverse_dynamics(q, qd, qdd), None)
+        scratch = joint_loads(robot, q, qd, qdd)
+        given = joint_loads(robot, q, qd, qdd, inverse=inverse)
+        assert np.array_equal(given.force, scratch.force), name
+        assert np.array_equal(given.couple, scratch.couple), name
+        doubled = (2 * np.asarray(inverse[0]), inverse[1])
+        twice = joint_loads(robot, q, qd, qdd, inverse=doubled)
+        for joint, tau in scratch.drive.items():
+            assert np.array_equal(twice.drive[joint], 2 * tau), (name, joint)

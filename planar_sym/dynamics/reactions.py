@@ -68,9 +68,6 @@ class JointLoads:
         revolute joint without a drive model it equals the Lagrangian tau (0 at a passive
         joint of a closed chain and at a cut joint); welds and prismatic joints: the reaction
         moment.
-    newton_euler_couple : ndarray, shape (N, joints)
-        The same moment balance for every joint (kept for callers of the earlier split: equal
-        to ``couple``).
     axial, normal : dict of str to ndarray (N,)
         Prismatic joints only: F_j along the slide axis and across it (N), link side.
     drive : dict of str to ndarray (N,)
@@ -84,7 +81,6 @@ class JointLoads:
     types: tuple[str, ...]
     force: np.ndarray
     couple: np.ndarray
-    newton_euler_couple: np.ndarray
     axial: dict[str, np.ndarray]
     normal: dict[str, np.ndarray]
     drive: dict[str, np.ndarray] = field(default_factory=dict)
@@ -214,11 +210,11 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
         tau = np.reshape(tau, (n_s, n_q))
         lam = np.zeros((n_s, 0))
     acc, cg, points = robot.body_motion(q, qd, qdd)
-    n_b, n_t, n_l = len(s.mass), len(s.subtree[0]), lam.shape[1] // 2
+    n_t, n_l = len(s.subtree[0]), lam.shape[1] // 2
     n_j = n_t + n_l
-    # component arrays (N, bodies or points): each component's columns contiguous per sample
-    acc, cg = np.reshape(acc, (n_s, 3, n_b)), np.reshape(cg, (n_s, 2, n_b))
-    px, py = np.reshape(points, (n_s, 2, -1)).transpose(1, 0, 2)
+    # component arrays (N, bodies or points): acc (N, 3, bodies), cg (N, 2, bodies), points
+    # (N, 2, points), shaped so by the generated functions for a q of shape (N, n)
+    px, py = points.transpose(1, 0, 2)
     # per body: f = m a - m g and I alpha + c x f, less the cut forces and their moments
     fx = acc[:, 0] * s.mass - s.weight[0]
     fy = acc[:, 1] * s.mass - s.weight[1]
@@ -237,8 +233,8 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
     force = np.empty((n_s, n_j, 2))
     force[:, :n_t, 0], force[:, :n_t, 1] = big_fx, big_fy
     np.negative(lam.reshape(n_s, n_l, 2), out=force[:, n_t:])
-    ne_couple = np.zeros((n_s, n_j))
-    ne_couple[:, :n_t] = mz @ s.subtree - (px[:, :n_t] * big_fy - py[:, :n_t] * big_fx)
+    couple = np.zeros((n_s, n_j))
+    couple[:, :n_t] = mz @ s.subtree - (px[:, :n_t] * big_fy - py[:, :n_t] * big_fx)
     axial, normal = {}, {}
     for i, (k, name) in enumerate(s.slides):
         ux, uy = px[:, n_j + n_l + i], py[:, n_j + n_l + i]
@@ -247,4 +243,4 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
     drives = robot.drive_train.drives
     drive = {d.joint: tau[:, d.coordinate] for d in drives}
     motor = {d.joint: tau[:, d.coordinate] / d.gear_ratio for d in drives}
-    return JointLoads(s.names, s.types, force, ne_couple, ne_couple, axial, normal, drive, motor)
+    return JointLoads(s.names, s.types, force, couple, axial, normal, drive, motor)
