@@ -12,7 +12,7 @@ import numpy as np
 from ..errors import InputError, WorkspaceError
 from ..model.arrays import as_sample_set, as_samples, when
 from ..model.library import SingleCall
-from ..model.loops import refuse_singular_matrices
+from ..model.loops import COND_LIMIT, refuse_singular_matrices
 from ..model.robot import Robot
 from .profiles import JointTrajectory
 
@@ -38,36 +38,142 @@ def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
 def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     """Full coordinates from actuated ones, Newton on Phi(q) = 0 for the passive joints.
 
-    Sample by sample, each started from the previous solution: continuation keeps the
-    assembly mode (the first sample starts from ``q_guess``, default the drawn configuration).
+    The first sample starts from ``q_guess`` (default the drawn configuration), which picks the
+    assembly mode; the others follow it along the motion, whatever the sampling (``_follow``):
+    from each solved pose to the next sample's actuated coordinates in steps of at most
+    ``MAX_STEP`` in any coordinate, each predicted along the loops' tangent and corrected by
+    Newton, and refused where the sign of det Phi_p changes (a singular pose crossed: another
+    assembly mode) or Newton cannot close the loops.
 
     ``q_act`` (N, actuated) holds the actuated coordinates (rad; m at a slider), ``q_guess``
     (n,) a start pose, ``t`` (N,) the times (s) to name in an error. Returns every coordinate,
-    shape (N, n), in rad (m). Raises WorkspaceError where the loops cannot be closed.
+    shape (N, n), in rad (m). Raises WorkspaceError where the loops cannot be closed or the
+    motion would leave its assembly mode.
     """
     act, pas = partition(robot)
     q_act = as_samples("q_act", q_act, len(act), times=t)
-    phi_f = SingleCall(robot.library.functions["constraint"], robot.p)
-    jac_f = SingleCall(robot.library.functions["constraint_jacobian"], robot.p)
+    loops = _Loops(robot, act, pas)
     q = np.array(robot.q_drawn if q_guess is None else q_guess, dtype=float)
+    q[act] = q_act[0]
+    q = loops.close(q, q_act[0], t, 0)
+    jac = loops.jacobian(q)
+    sign = _orientation(jac, pas)
     out = np.empty((len(q_act), robot.n))
-    m = robot.n_constraints
-    for k, qa in enumerate(q_act):
-        q[act] = qa
-        for _ in range(NEWTON_MAX_ITER):
-            (phi,) = phi_f(q)
-            if np.max(np.abs(phi)) < NEWTON_TOL_M:
-                break
-            (jac,) = jac_f(q)
-            jp = jac.reshape(robot.n, m).T[:, pas]
-            q[pas] -= np.linalg.solve(jp, phi)
-        else:
-            raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {when(t, k)} "
-                                 f"for actuated coordinates {np.round(qa, 9).tolist()} "
-                                 f"({', '.join(robot.coordinate_units[i] for i in act)}) "
-                                 f"(|Phi| = {np.max(np.abs(phi)):.3g} m): outside the workspace")
+    out[0] = q
+    for k in range(1, len(q_act)):
+        q, jac = _follow(loops, q, jac, q_act[k], sign, t, k)
         out[k] = q
     return out
+
+
+#: continuation: the largest change of any coordinate (rad; m at a slider) in one step from
+#: a solved pose to the next; a larger move between two samples is taken in several steps
+MAX_STEP = 0.05
+#: a step whose Newton correction fails (or leaves the predicted neighbourhood) is halved,
+#: at most this many times, before the motion is refused
+MAX_HALVINGS = 20
+
+
+class _Loops:
+    """The loops' residual and Jacobian at a pose, and Newton on the passive joints."""
+
+    def __init__(self, robot: Robot, act: np.ndarray, pas: np.ndarray):
+        self.robot, self.act, self.pas = robot, act, pas
+        self.phi = SingleCall(robot.library.functions["constraint"], robot.p)
+        self.jac = SingleCall(robot.library.functions["constraint_jacobian"], robot.p)
+        self.n, self.m = robot.n, robot.n_constraints
+
+    def jacobian(self, q: np.ndarray) -> np.ndarray:
+        (jac,) = self.jac(q)
+        return jac.reshape(self.n, self.m).T
+
+    def newton(self, q: np.ndarray) -> tuple[np.ndarray, float]:
+        """Newton on the passive joints from ``q``: the pose and its largest |Phi| (m)."""
+        q = q.copy()
+        for _ in range(NEWTON_MAX_ITER):
+            (phi,) = self.phi(q)
+            if np.max(np.abs(phi)) < NEWTON_TOL_M:
+                break
+            q[self.pas] -= np.linalg.solve(self.jacobian(q)[:, self.pas], phi)
+        return q, float(np.max(np.abs(phi)))
+
+    def refuse_singular(self, q: np.ndarray, at_sample: bool, t, k: int) -> None:
+        """WorkspaceError if Phi_p is singular at ``q`` (the 2-norm condition number above
+        COND_LIMIT, as ``complete_rates`` refuses it): at sample ``k`` itself, or on the way
+        from the sample before."""
+        cond = float(np.linalg.cond(self.jacobian(q)[:, self.pas]))
+        if cond <= COND_LIMIT:
+            return
+        where = when(t, k) if at_sample else f"between {_at(t, k - 1)} and {when(t, k)}"
+        raise WorkspaceError(f"{self.robot.name}: singular pose {'at ' if at_sample else ''}"
+                             f"{where}: the passive-joint constraint Jacobian Phi_p has "
+                             f"condition number {cond:.3g} > {COND_LIMIT:g}")
+
+    def close(self, q: np.ndarray, qa: np.ndarray, t, k: int) -> np.ndarray:
+        """Newton from ``q``, or WorkspaceError naming sample ``k``."""
+        q, residual = self.newton(q)
+        if not residual < NEWTON_TOL_M:
+            self.refuse_outside(qa, residual, t, k)
+        return q
+
+    def refuse_outside(self, qa, residual: float, t, k: int):
+        robot = self.robot
+        raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {when(t, k)} "
+                             f"for actuated coordinates {np.round(qa, 9).tolist()} "
+                             f"({', '.join(robot.coordinate_units[i] for i in self.act)}) "
+                             f"(|Phi| = {residual:.3g} m): outside the workspace")
+
+
+def _orientation(jac: np.ndarray, pas: np.ndarray) -> float:
+    """The sign of det Phi_p (from Phi_q, ``jac``): it changes only through a singular pose."""
+    return float(np.sign(np.linalg.det(jac[:, pas])))
+
+
+def _follow(loops: _Loops, q: np.ndarray, jac: np.ndarray, qa_to: np.ndarray, sign: float, t,
+            k: int) -> tuple[np.ndarray, np.ndarray]:
+    """From the solved pose ``q`` (Phi_q there: ``jac``) to the actuated coordinates ``qa_to``
+    of sample ``k``, staying in the assembly mode of orientation ``sign`` (see
+    ``solve_passive``). Returns the pose and Phi_q there."""
+    act, pas = loops.act, loops.pas
+    qa_from = q[act].copy()
+    span = qa_to - qa_from
+    s, ds = 0.0, 1.0 / max(1, int(np.ceil(np.max(np.abs(span)) / MAX_STEP)))
+    halvings, residual = 0, 0.0
+    while s < 1.0:
+        ds = min(ds, 1.0 - s)
+        target = qa_from + (s + ds) * span if s + ds < 1.0 else qa_to
+        # the loops' tangent: Phi_p dq_p = -Phi_a dq_a
+        dp = -np.linalg.solve(jac[:, pas], jac[:, act] @ (target - q[act]))
+        if np.max(np.abs(dp)) > MAX_STEP and halvings < MAX_HALVINGS:
+            ds, halvings = ds / 2, halvings + 1
+            continue
+        guess = q.copy()
+        guess[act], guess[pas] = target, q[pas] + dp
+        trial, residual = loops.newton(guess)
+        # accepted: closed, near the prediction (no jump to another solution), same mode
+        near = np.max(np.abs(trial[pas] - guess[pas])) <= 0.5 * max(np.max(np.abs(dp)), 1e-6)
+        jac_trial = loops.jacobian(trial) if residual < NEWTON_TOL_M and near else None
+        if jac_trial is not None and _orientation(jac_trial, pas) == sign:
+            q, jac, s = trial, jac_trial, s + ds
+            continue
+        if residual < NEWTON_TOL_M:
+            loops.refuse_singular(trial, s + ds >= 1.0, t, k)
+        if halvings >= MAX_HALVINGS:
+            break
+        ds, halvings = ds / 2, halvings + 1
+    else:
+        return q, jac
+    if residual < NEWTON_TOL_M and _orientation(loops.jacobian(trial), pas) != sign:
+        robot = loops.robot
+        raise WorkspaceError(f"{robot.name}: between {_at(t, k - 1)} and {when(t, k)} the "
+                             "passive joints pass a singular pose (det Phi_p changes sign): "
+                             "the loops would go on in another assembly mode, so the motion "
+                             "leaves the workspace of the mode it started in")
+    loops.refuse_outside(qa_to, residual, t, k)
+
+
+def _at(t, k: int) -> str:
+    return f"t = {t[k]:.6g} s" if t is not None else f"sample {k}"
 
 
 def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray, np.ndarray]:
