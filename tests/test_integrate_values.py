@@ -417,3 +417,31 @@ def test_the_c_helper_loads_once(pendulum, monkeypatch):
     run = ps.simulate(pendulum, [-1.0], [0.5], (0.0, 1.0), t_eval=t, torque=[0.3])
     assert np.max(np.abs(np.column_stack([run.q, run.qd]) - exact_pendulum(-1.0, 0.5, t, 0.3))
                   ) < 1e-9
+
+
+def test_check_torque_one_rule_for_every_route():
+    """``check_torque``: what simulate does to a torque before choosing a route. Constants become
+    a float (n,) array (one number or (1,) for every joint); a function of time and a Signal of
+    the right width pass as they are; a wrong width is refused, a long vector summarised."""
+    from planar_sym.dynamics.integrate import check_torque
+    from planar_sym.motion.signals import from_table
+
+    assert check_torque(None, 2) is None
+    f = lambda t: [t, t]  # noqa: E731
+    assert check_torque(f, 2) is f
+    table = from_table([0.0, 1.0], [[0.0, 1.0], [2.0, 3.0]], "linear")
+    assert check_torque(table, 2) is table
+    for given, n, want in (([1, 2], 2, [1.0, 2.0]), (3, 3, [3.0] * 3), ([2.5], 3, [2.5] * 3)):
+        got = check_torque(given, n)
+        assert isinstance(got, np.ndarray) and got.dtype == np.float64 and got.tolist() == want
+    with pytest.raises(InputError) as info:
+        check_torque(table, 3)
+    assert str(info.value) == "the torque table has 2 columns for 3 actuated joints"
+    rule = ("torque must be None, 3 numbers (N*m; N at a slider), one for every actuated joint, "
+            "or a function of time")
+    with pytest.raises(InputError) as info:
+        check_torque([1.0, 2.0], 3)  # two numbers for three joints: not one for all
+    assert str(info.value) == f"{rule} (got shape (2,): [1. 2.])"
+    with pytest.raises(InputError) as info:
+        check_torque(np.arange(12.0), 3)
+    assert str(info.value) == f"{rule} (got shape (12,): [ 0.  1.  2. ...  9. 10. 11.])"
