@@ -9,7 +9,7 @@ import sys
 import warnings
 
 from . import commands
-from .errors import PlanarSymError
+from .errors import InputError, PlanarSymError
 
 
 def parser() -> argparse.ArgumentParser:
@@ -27,14 +27,61 @@ def parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    ap = parser()
+    args = ap.parse_args(argv)
     with warnings.catch_warnings():  # a warning is one line, like an error: no source line
         warnings.showwarning = _show_warning
-        return _run(args)
+        return _run(args, lambda: _checks(ap, args, argv))
 
 
-def _run(args) -> int:
+def _checks(ap: argparse.ArgumentParser, args, argv: list[str]) -> None:
+    """What argparse lets through: an option given twice (the last would silently win) and
+    the environment's flags and unknown PLANAR_SYM_ names."""
+    from .environment import check
+
+    sub = ap._subparsers._group_actions[0].choices[args.command]
+    repeated = _repeated([*ap._actions, *sub._actions], argv)
+    if repeated:
+        raise InputError(f"option {repeated} is given more than once: give it once (the last "
+                         "would silently win)")
+    check()
+
+
+#: options that may be repeated: flags (twice is the same) and lists made by repeating
+_REPEATABLE = (argparse._StoreTrueAction, argparse._StoreFalseAction, argparse._CountAction,
+               argparse._AppendAction, argparse._HelpAction)
+
+
+def _repeated(actions, argv: list[str]) -> str | None:
+    """The first option of ``actions`` that ``argv`` gives twice (``--x 1 --x=2``, or an
+    abbreviation argparse accepts), or None."""
+    longs = {o: a for a in actions for o in a.option_strings}
+    seen = {}
+    for token in argv:
+        if token == "--":
+            break
+        if not token.startswith("-") or token == "-":
+            continue
+        name = token.split("=", 1)[0]
+        if name not in longs and name.startswith("--"):
+            matches = {longs[o] for o in longs if o.startswith(name)}
+            if len(matches) != 1:
+                continue
+            name = next(o for o in longs if o.startswith(name))
+        action = longs.get(name)
+        if action is None or isinstance(action, _REPEATABLE):
+            continue
+        if action in seen:
+            return "/".join(action.option_strings)
+        seen[action] = token
+    return None
+
+
+def _run(args, checks=None) -> int:
     try:
+        if checks is not None:
+            checks()
         return args.fn(args)
     except PlanarSymError as exc:
         print(f"error: {exc}", file=sys.stderr)

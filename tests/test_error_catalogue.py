@@ -1048,6 +1048,26 @@ def _cli(ctx: Ctx, *args: str) -> None:
         raise CommandFailed(err.strip())
 
 
+@bad(CLI, "`planar-sym run serial_2dof_free_swing --samples 5 --samples 7`", CommandFailed,
+     r"^error: option --samples is given more than once: give it once",
+     "error: option --samples is given more than once: give it once (the last would silently "
+     "win)", "tests/test_cli_checks.py::test_an_option_given_twice_is_refused")
+def cli_repeated_option(ctx):
+    _cli(ctx, "run", "serial_2dof_free_swing", "--samples", "5", "--samples", "7", "--out",
+         str(ctx.tmp / "res"))
+    assert not (ctx.tmp / "res").exists()
+
+
+@bad(CLI, "`PLANAR_SYM_EXACT=yes planar-sym run ...`", CommandFailed,
+     r"^error: environment variable PLANAR_SYM_EXACT='yes' must be 0 or 1",
+     "error: environment variable PLANAR_SYM_EXACT='yes' must be 0 or 1 (1: CasADi's exact "
+     "evaluator instead of the compiled C callers)",
+     "tests/test_cli_checks.py::test_the_environment_is_read_by_one_rule")
+def cli_bad_flag(ctx):
+    ctx.monkeypatch.setenv("PLANAR_SYM_EXACT", "yes")
+    _cli(ctx, "run", "serial_2dof_free_swing", "--samples", "5", "--out", str(ctx.tmp / "res"))
+
+
 @bad(CLI, "`planar-sym run no_such_study --out res`", CommandFailed,
      r"^error: unknown study 'no_such_study': not a built-in study \(five_bar_type1_move_x, ",
      "error: unknown study 'no_such_study': not a built-in study (five_bar_type1_move_x, ...) "

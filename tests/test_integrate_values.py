@@ -427,7 +427,9 @@ def test_check_torque_one_rule_for_every_route():
     from planar_sym.motion.signals import from_table
 
     assert check_torque(None, 2) is None
-    f = lambda t: [t, t]  # noqa: E731
+    def f(t):
+        return [t, t]
+
     assert check_torque(f, 2) is f
     table = from_table([0.0, 1.0], [[0.0, 1.0], [2.0, 3.0]], "linear")
     assert check_torque(table, 2) is table

@@ -2,7 +2,7 @@
 each runtime layer imports only the layers below it. Imports inside functions count too: a lazy
 import is still a dependency.
 
-Layers, lowest first (DESIGN.md): base (errors, files, progress) -> model -> motion ->
+Layers, lowest first (DESIGN.md): base (errors, files, progress, environment) -> model -> motion ->
 dynamics -> control -> study -> analysis -> outputs -> commands and cli -> the package's public API
 (``planar_sym/__init__.py``). ``derive/`` (build time) may import only the description stage of
 the model and the base.
@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 LAYERS = ("base", "model", "motion", "dynamics", "control", "study", "analysis", "outputs", "commands",
           "api")
-BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress"}
+BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress", "planar_sym.environment"}
 #: what derive/ may take from the runtime
 DERIVE_MAY_IMPORT = {"planar_sym.errors", "planar_sym.progress", "planar_sym.model.units",
                      "planar_sym.model.description"}

@@ -25,6 +25,7 @@ from pathlib import Path
 
 from filelock import FileLock
 
+from ..environment import flag
 from ..errors import LibraryError
 from .folders import _DIR, builtin_generated_dirs, cache_dir
 
@@ -162,7 +163,7 @@ PREBUILT = _DIR / "prebuilt"
 def _prebuilt(folder: Path, path: Path) -> Path | None:
     """The library of that name built at install for a built-in robot, if there and intact
     (a copied or user folder compiles into the cache, where its own problems show)."""
-    if (os.environ.get("PLANAR_SYM_PREBUILT") == "0"  # compile into the cache regardless
+    if (flag("PLANAR_SYM_PREBUILT") is False  # compile into the cache regardless
             or folder.resolve().parent not in builtin_generated_dirs()):
         return None
     pre = PREBUILT / path.name

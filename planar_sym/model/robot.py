@@ -10,12 +10,12 @@ which case the result drops the sample axis too) and makes one compiled call for
 
 from __future__ import annotations
 
-import os
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
+from ..environment import flag
 from ..errors import InputError, LibraryError
 from .arrays import as_samples, as_vector, when
 from .drive import DriveTrain
@@ -132,7 +132,7 @@ class Robot(LoopFunctions):
         #: exact: CasADi's per-sample functions compiled without fast math. Otherwise the
         #: hot methods below are C-level callers of the vectorised loops (same algorithm,
         #: -ffast-math: agrees with the exact path to ~1e-15 relative, tested to 1e-12).
-        self.exact = (os.environ.get("PLANAR_SYM_EXACT") == "1") if exact is None else exact
+        self.exact = bool(flag("PLANAR_SYM_EXACT")) if exact is None else exact
         if not self.exact:
             bind_fast_paths(self)
 
