@@ -1108,6 +1108,30 @@ def _five():
     return ps.load("five_bar_type1")
 
 
+@bad(LOOPS, "inverse dynamics of a slider-driven slider-crank 1e-4 rad of crank from its dead "
+     "centre (`ps.inverse_along`, an inverse study): the torques come back, with a warning",
+     Warned, r"^slider_crank_slider_driven: near a singular pose from t = 0 s \(sample 0\): the "
+     r"passive-joint constraint Jacobian Phi_p has 1-norm condition number [0-9.e+]+ ",
+     "slider_crank_slider_driven: near a singular pose from t = 0 s (sample 0): the "
+     "passive-joint constraint Jacobian Phi_p has 1-norm condition number 5e+04 (largest "
+     "5e+04, at t = 0 s (sample 0); refused above 1e+06). Forces there grow like 1 / the "
+     "distance to the singular pose, and so does any error in the geometry or the motion: keep "
+     "the motion farther from it, or check the forces against the mechanism's strength",
+     "tests/test_split_values.py::test_near_a_singular_pose_the_forces_are_warned_about_with_the_time")
+def near_singular_warned(ctx):
+    robot = ps.load("slider_crank_slider_driven")
+    p = robot.parameters
+    r, l, s0 = p["px_crank_A"], p["px_rod_B"], p["s0_slide"]
+    theta = 1e-4
+    x = r * np.cos(theta) + np.sqrt(l * l - (r * np.sin(theta)) ** 2)
+    phi = np.arctan2(-r * np.sin(theta), x - r * np.cos(theta))
+    q = np.array([[theta, phi - theta, x - s0]])
+    with warnings.catch_warnings(record=True) as shown:
+        warnings.simplefilter("always")
+        ps.inverse_along(robot, [0.0], q, 0 * q, 0 * q)
+    raise Warned(str(shown[0].message))
+
+
 @bad(LOOPS, "closed-chain torques for `q` off the loops (a passive angle 10 mrad off)",
      InputError, r"five_bar_type1: sample 0 is off the loop constraints: \|Phi\| = [0-9.e-]+ m "
      r"at cut joint C \(limit 1e-09\)",

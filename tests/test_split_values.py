@@ -231,3 +231,33 @@ def test_split_along_a_simulated_motion_sums_to_the_applied_torques():
     direct = torque_split(arm, sim.q, sim.qd, qdd)
     for k, v in parts.items():
         assert np.array_equal(v, direct[k]), k
+
+
+def test_near_a_singular_pose_the_forces_are_warned_about_with_the_time():
+    """Issue 25, class 2: between COND_WARN (1e3) and the refusal (1e6) the results come back
+    with a warning naming the first sample past 1e3 and the worst one, by the same 1-norm
+    condition number, here checked against the explicit 2 x 2 inverse by hand; at 0.01 rad
+    from the dead centre (500) there is none."""
+    import warnings
+
+    from planar_sym.dynamics.along import inverse_along
+
+    robot = _slider_crank()
+    theta = np.array([0.3, 0.01, 2e-4, 1e-4])  # rad from the dead centre
+    q, _, _ = _crank_pose(robot, theta)
+    zero = np.zeros_like(q)
+    t = np.array([0.0, 0.5, 1.0, 1.5])
+    by_hand = [_condition_numbers(robot, th)[0] for th in theta]
+    assert by_hand[1] < 1e3 < by_hand[2] < by_hand[3] < 1e6
+    with pytest.warns(RuntimeWarning) as caught:
+        inv = inverse_along(robot, t, q, zero, zero)
+    (w,) = caught
+    assert str(w.message).startswith(
+        f"slider_crank_slider_driven: near a singular pose from t = 1 s (sample 2): the "
+        f"passive-joint constraint Jacobian Phi_p has 1-norm condition number "
+        f"{by_hand[2]:.3g} (largest {by_hand[3]:.3g}, at t = 1.5 s (sample 3); refused above "
+        "1e+06)")
+    assert np.all(np.isfinite(inv.tau))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        inverse_along(robot, t[:2], q[:2], zero[:2], zero[:2])

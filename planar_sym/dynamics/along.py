@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.arrays import as_samples
+from ..model.loops import warn_near_singular
 from ..model.robot import Robot
 from .inverse import torque_split
 from .reactions import JointLoads, joint_loads
@@ -62,6 +63,8 @@ def inverse_along(robot: Robot, t_s, q, qd, qdd) -> InverseAlong:
     if robot.is_closed_chain:
         tau, lam = robot.closed_chain_inverse_dynamics(q, qd, qdd, t=t)
         residual = float(np.max(np.abs(robot.constraint(q))))
+        jac = robot.constraint_jacobian(q).reshape(len(t), robot.n_constraints, robot.n)
+        warn_near_singular(robot.name, np.linalg.cond(jac[:, :, list(robot.passive)], 1), t)
     else:  # a tree with a passive joint is refused here: its torques are not unique
         tau, lam, residual = robot.inverse_dynamics(q, qd, qdd), None, None
     loads = joint_loads(robot, q, qd, qdd, t=t, inverse=(tau, lam))

@@ -23,6 +23,11 @@ from .arrays import when
 #: are already about a million times their size at a well-conditioned pose.
 COND_LIMIT = 1e6
 
+#: below the refusal, a condition number above this is warned about (``warn_near_singular``):
+#: the results are still the model's, but forces there are about this many times their size
+#: at a well-conditioned pose, so any error in the geometry or the motion is amplified as much
+COND_WARN = 1e3
+
 #: a closed chain's state is on its loops when its residuals stay within this (m; see
 #: check_on_loops): Newton closes them to 1e-13 m, the seed's closed forms to 1e-16 m
 LOOP_TOL_M = 1e-9
@@ -39,6 +44,24 @@ def refuse_singular(robot_name: str, cond: np.ndarray, t=None) -> None:
                              f"constraint Jacobian Phi_p (which the actuation matrix "
                              f"[S^T Phi_q^T] needs) has 1-norm condition number "
                              f"{cond[k]:.3g} > {COND_LIMIT:g}")
+
+
+def warn_near_singular(robot_name: str, cond: np.ndarray, t=None) -> None:
+    """A RuntimeWarning naming the first sample whose Phi_p 1-norm condition number ``cond``
+    (N,) is above COND_WARN (and the largest), once per call; nothing below it."""
+    near = cond > COND_WARN
+    if not near.any():
+        return
+    import warnings
+
+    k, worst = int(np.argmax(near)), int(np.argmax(cond))
+    warnings.warn(f"{robot_name}: near a singular pose from {when(t, k)}: the passive-joint "
+                  f"constraint Jacobian Phi_p has 1-norm condition number {cond[k]:.3g} "
+                  f"(largest {cond[worst]:.3g}, at {when(t, worst)}; refused above "
+                  f"{COND_LIMIT:g}). Forces there grow like 1 / the distance to the singular "
+                  "pose, and so does any error in the geometry or the motion: keep the motion "
+                  "farther from it, or check the forces against the mechanism's strength",
+                  RuntimeWarning, stacklevel=3)
 
 
 def refuse_singular_matrices(robot_name: str, mats: np.ndarray, what: str, t=None) -> None:
