@@ -28,6 +28,13 @@ def _env() -> dict:
     (["demo", "--frames", "100000"], "--frames must be an integer from 2 to 2000"),
     (["animate", "serial_2dof_joint_move", "--frames", "99999"], "--frames must be an integer from 2 to 2000"),
     (["animate", "serial_2dof_joint_move", "--dpi", "100000"], "--dpi must be an integer from 10 to 600"),
+    # one rule for the resolution on every command (draw and atlas ran into std::bad_alloc)
+    (["draw", "serial_2dof", "--dpi", "100000", "--out", "d.png"],
+     "--dpi must be an integer from 10 to 600 (got 100000)"),
+    (["atlas", "serial_2dof", "--dpi", "100000", "--out", "atlas"],
+     "--dpi must be an integer from 10 to 600 (got 100000)"),
+    (["draw", "serial_2dof", "--dpi", "0", "--out", "d.png"],
+     "--dpi must be an integer from 10 to 600 (got 0)"),
     (["run", "serial_2dof_joint_move", "--all"], "name studies or give --all, not both"),
 ])
 def test_absurd_sizes_and_conflicts_get_one_line(tmp_path, monkeypatch, capsys, argv, message):

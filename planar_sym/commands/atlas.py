@@ -86,8 +86,9 @@ def run(args) -> int:
 
     if args.out.exists() and not args.out.is_dir():
         raise InputError(f"--out {args.out} is a file, not a folder")
-    if args.dpi <= 0:
-        raise InputError(f"--dpi must be positive (got {args.dpi})")
+    from ..outputs.resolution import check_dpi
+
+    check_dpi(args.dpi)
     for option, value in (("--step", args.step), ("--length-scale", args.length_scale)):
         if value is not None and not (np.isfinite(value) and value > 0):
             raise InputError(f"{option} must be a positive length in mm (got {value:g})")

@@ -47,12 +47,12 @@ def save_drawing(robot_name: str, path: Path, dpi: int = 100) -> Path:
     """
     from ..files import atomic_files
     from ..outputs.drawing import drawing_figure
+    from ..outputs.resolution import check_dpi
 
     path = Path(path)
     if path.suffix.lower() not in FORMATS:
         raise InputError(f"--out must end in {', '.join(FORMATS)} (got {path.name!r})")
-    if dpi <= 0:
-        raise InputError(f"--dpi must be positive (got {dpi})")
+    check_dpi(dpi)
     fig = drawing_figure(robot_name)
     with atomic_files([path]) as (tmp,):
         fig.savefig(tmp, dpi=dpi, format=path.suffix[1:].lower())

@@ -12,6 +12,7 @@ from ..errors import InputError
 from ..files import atomic_files
 from ..model.description import Description
 from ..model.robot import Robot
+from .resolution import check_dpi
 
 #: formats written, and the matplotlib writer of each
 WRITERS = {".gif": "pillow", ".mp4": "ffmpeg"}
@@ -37,8 +38,7 @@ def writer_for(path: Path, fps: float):
 def check_frames(frames: int, dpi: int) -> None:
     if not isinstance(frames, int) or not 2 <= frames <= MAX_FRAMES:
         raise InputError(f"--frames must be an integer from 2 to {MAX_FRAMES} (got {frames})")
-    if not isinstance(dpi, int) or not 10 <= dpi <= 600:
-        raise InputError(f"--dpi must be an integer from 10 to 600 (got {dpi})")
+    check_dpi(dpi)
 
 
 def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, path: Path,
