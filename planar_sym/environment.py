@@ -18,6 +18,7 @@ KNOWN = {
                            "libraries",
     "PLANAR_SYM_PLOTS": "the folder the lecture examples write their plots to",
     "PLANAR_SYM_REQUIRE_BROWSER": "1: the test of the HTML page must run, not skip (make test)",
+    "PLANAR_SYM_FUZZ_CASES": "how many cases the command-line fuzzer of the tests runs",
 }
 
 #: the flags among them: 0 or 1

@@ -69,7 +69,13 @@ def test_inverse_along_checks_its_times(pendulum):
     q = np.zeros((3, 1))
     with pytest.raises(InputError) as info:
         ps.inverse_along(pendulum, [0.0, 0.1], q, q, q)
-    assert str(info.value) == "t_s has 2 times for 3 samples of q"
+    assert str(info.value) == "t_s has shape (2,): one time (s) for each of the 3 samples of q"
+    with pytest.raises(InputError) as info:
+        ps.inverse_along(pendulum, [[0.0, 0.1, 0.2]], q, q, q)
+    assert str(info.value) == "t_s has shape (1, 3): one time (s) for each of the 3 samples of q"
+    with pytest.raises(InputError) as info:
+        ps.inverse_along(pendulum, [0.0, np.nan, 0.2], q, q, q)
+    assert str(info.value).startswith("t_s[1, 0] is nan at sample 1")
     with pytest.raises(InputError) as info:
         ps.inverse_along(pendulum, [0.0, "a", 0.2], q, q, q)
     assert str(info.value).startswith("t_s must be an array of numbers")
@@ -252,3 +258,9 @@ def test_holding_the_end_is_refused_only_past_the_rest_tolerance(pendulum):
     assert str(info.value).startswith("s.toml: control.duration 1.5 s outlasts the motion "
                                       "(1 s), which ends moving (2e-09 per s)")
     assert str(info.value).endswith("shorten control.duration")
+    # a duration past the motion's end by rounding only (1e-12 s) is the motion's end: a motion
+    # that ends moving is not held, so not refused
+    moving = JointTrajectory(t, 0.1 * t[:, None], np.full((11, 1), 0.1), q)
+    done = track(pendulum, Tracking(moving, law="pd", kp=[10.0], kd=[1.0],
+                                    duration_s=1.0 + 1e-12, samples=3))
+    assert done.run.t_s[-1] == 1.0 + 1e-12

@@ -54,10 +54,16 @@ def inverse_along(robot: Robot, t_s, q, qd, qdd) -> InverseAlong:
     """Inverse dynamics of ``robot`` along the samples ``t_s`` (N,) in s of the motion ``q``,
     ``qd``, ``qdd`` (N, n: every coordinate, rad or m; on the loops for a closed chain); a
     sample off the loops or at a singular pose is refused by its time."""
-    t = as_samples("t_s", np.reshape(t_s, (-1, 1)) if np.ndim(t_s) == 1 else t_s, 1)[:, 0]
-    n_samples = len(np.atleast_2d(q))
-    if len(t) != n_samples:
-        raise InputError(f"t_s has {len(t)} times for {n_samples} samples of q")
+    n_samples = len(np.atleast_2d(q))  # (q itself is checked by the inverse dynamics below)
+    try:
+        t = np.asarray(t_s, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"t_s must be an array of numbers, one time (s) per sample: {exc}"
+                         ) from None
+    if t.ndim != 1 or len(t) != n_samples:
+        raise InputError(f"t_s has shape {t.shape}: one time (s) for each of the {n_samples} "
+                         "samples of q")
+    t = as_samples("t_s", t[:, None], 1)[:, 0]  # finite, or the sample is named
     # the torques first: they refuse a sample off the loops or at a singular pose by its time,
     # so the loads and the split below see checked samples (and reuse these torques)
     if robot.is_closed_chain:
@@ -72,5 +78,5 @@ def inverse_along(robot: Robot, t_s, q, qd, qdd) -> InverseAlong:
     return InverseAlong(tau=tau, cut_forces=lam, loads=loads,
                         split=torque_split(robot, q, qd, qdd, t=t),
                         sizing=size(robot, t, qd, tau),
-                        power_w=tau * np.asarray(qd, dtype=float)[:, act],
+                        power_w=tau * np.asarray(qd)[:, act],
                         loop_residual_m=residual)
