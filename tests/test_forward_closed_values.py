@@ -548,3 +548,14 @@ def test_kkt_accelerations_take_their_inputs_as_float64():
                           kkt_accelerations(robot, q, qd, tau_ld.astype(float)))
     ints = kkt_accelerations(robot, q[0], [0, 0, 0, 0], [1, -1])
     assert np.array_equal(ints, kkt_accelerations(robot, q[0], np.zeros(4), [1.0, -1.0]))
+
+
+def test_every_route_types_its_run_with_the_robot():
+    """A closed chain's run under SciPy and under the C integrator carries the robot's name,
+    units and actuated coordinates (its series are named from them, not guessed)."""
+    five = ps.load("five_bar_type1")
+    for method in ("dopri5", "RK45"):
+        sim = ps.simulate(five, five.q_drawn, np.zeros(five.n), (0.0, 0.05), method=method)
+        assert (sim.robot, sim.actuated, sim.coordinate_units) == (
+            "five_bar_type1", (0, 2), ("rad",) * 4), method
+        assert [s.unit for s in sim.series("q")] == ["rad"] * 4

@@ -103,10 +103,11 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         def torque(tt: float) -> np.ndarray:  # SciPy calls it per step, in Python
             return signal(tt)[0]
     if robot.is_closed_chain:
-        from .forward_closed import run_closed
+        from .forward_closed import DRIFT_LIMIT_M, SEGMENT_S, run_closed
 
         return run_closed(robot, q0, qd0, t, torque=torque, rtol=rtol, atol=atol,
-                          method=method, project_state=project)
+                          method=method, segment_s=SEGMENT_S, drift_limit_m=DRIFT_LIMIT_M,
+                          project_state=project)
     n = robot.n
     x0 = np.concatenate([q0, qd0])
     tau_of = _on_actuated(torque_function(torque, len(robot.actuated)), robot)

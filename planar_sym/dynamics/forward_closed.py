@@ -57,9 +57,15 @@ def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: 
     return q0.copy(), qd0.copy()
 
 
+#: a closed chain is integrated in segments of this length (s), projected onto the loops
+#: between them; a segment whose loops drift apart by more than DRIFT_LIMIT_M (m) is refused
+SEGMENT_S = 0.1
+DRIFT_LIMIT_M = 1e-6
+
+
 def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
                     rtol: float = 1e-11, atol: float = 1e-12, method: str = "dopri5",
-                    segment_s: float = 0.1, drift_limit_m: float = 1e-6,
+                    segment_s: float = SEGMENT_S, drift_limit_m: float = DRIFT_LIMIT_M,
                     project_state: bool = False):
     """Forward dynamics of a closed chain, on the constraint manifold.
 
@@ -87,12 +93,12 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
                       drift_limit_m=drift_limit_m, project_state=project_state)
 
 
-def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, torque=None,
-               rtol: float = 1e-11, atol: float = 1e-12, method: str = "dopri5",
-               segment_s: float = 0.1, drift_limit_m: float = 1e-6,
-               project_state: bool = False):
+def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, torque,
+               rtol: float, atol: float, method: str, segment_s: float, drift_limit_m: float,
+               project_state: bool):
     """``simulate_closed`` on inputs checked already: ``q0``, ``qd0`` (n,) in rad, rad/s and
-    the output times ``t`` (N,) in s (what ``forward.simulate``, the entry point, passes)."""
+    the output times ``t`` (N,) in s (what ``forward.simulate``, the entry point, passes);
+    every setting given by the caller (no defaults of its own to drift from theirs)."""
     from scipy.integrate import solve_ivp
 
 
