@@ -41,9 +41,11 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     The first sample starts from ``q_guess`` (default the drawn configuration), which picks the
     assembly mode; the others follow it along the motion, whatever the sampling (``_follow``):
     from each solved pose to the next sample's actuated coordinates in steps of at most
-    ``MAX_STEP`` in any coordinate, each predicted along the loops' tangent and corrected by
-    Newton, and refused where the sign of det Phi_p changes (a singular pose crossed: another
-    assembly mode) or Newton cannot close the loops.
+    ``MAX_STEP`` in any coordinate (and shorter near a singular pose), each predicted along
+    the loops' tangent and corrected by Newton; refused where the motion meets a singular pose
+    (Phi_p's 1-norm condition number above COND_LIMIT), where the sign of det Phi_p changes
+    (one crossed between two steps: another assembly mode), or where Newton cannot close the
+    loops.
 
     ``q_act`` (N, actuated) holds the actuated coordinates (rad; m at a slider), ``q_guess``
     (n,) a start pose, ``t`` (N,) the times (s) to name in an error. Returns every coordinate,
@@ -55,14 +57,12 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     loops = _Loops(robot, act, pas)
     q = np.array(robot.q_drawn if q_guess is None else q_guess, dtype=float)
     q[act] = q_act[0]
-    q = loops.close(q, q_act[0], t, 0)
-    jac = loops.jacobian(q)
-    sign = _orientation(jac, pas)
+    pose = _Pose(loops, loops.close(q, q_act[0], t, 0))
     out = np.empty((len(q_act), robot.n))
-    out[0] = q
+    out[0] = pose.q
     for k in range(1, len(q_act)):
-        q, jac = _follow(loops, q, jac, q_act[k], sign, t, k)
-        out[k] = q
+        pose = _follow(loops, pose, q_act[k], t, k)
+        out[k] = pose.q
     return out
 
 
@@ -97,18 +97,6 @@ class _Loops:
             q[self.pas] -= np.linalg.solve(self.jacobian(q)[:, self.pas], phi)
         return q, float(np.max(np.abs(phi)))
 
-    def refuse_singular(self, q: np.ndarray, at_sample: bool, t, k: int) -> None:
-        """WorkspaceError if Phi_p is singular at ``q`` (the 2-norm condition number above
-        COND_LIMIT, as ``complete_rates`` refuses it): at sample ``k`` itself, or on the way
-        from the sample before."""
-        cond = float(np.linalg.cond(self.jacobian(q)[:, self.pas]))
-        if cond <= COND_LIMIT:
-            return
-        where = when(t, k) if at_sample else f"between {_at(t, k - 1)} and {when(t, k)}"
-        raise WorkspaceError(f"{self.robot.name}: singular pose {'at ' if at_sample else ''}"
-                             f"{where}: the passive-joint constraint Jacobian Phi_p has "
-                             f"condition number {cond:.3g} > {COND_LIMIT:g}")
-
     def close(self, q: np.ndarray, qa: np.ndarray, t, k: int) -> np.ndarray:
         """Newton from ``q``, or WorkspaceError naming sample ``k``."""
         q, residual = self.newton(q)
@@ -123,47 +111,75 @@ class _Loops:
                              f"({', '.join(robot.coordinate_units[i] for i in self.act)}) "
                              f"(|Phi| = {residual:.3g} m): outside the workspace")
 
+    def refuse_singular(self, cond: float, at_sample: bool, t, k: int) -> None:
+        """WorkspaceError for a pose whose Phi_p has 1-norm condition number ``cond`` above
+        COND_LIMIT: sample ``k`` itself, or on the way from the sample before."""
+        where = when(t, k) if at_sample else f"between {_at(t, k - 1)} and {when(t, k)}"
+        raise WorkspaceError(f"{self.robot.name}: singular pose {'at ' if at_sample else ''}"
+                             f"{where}: the passive-joint constraint Jacobian Phi_p has "
+                             f"1-norm condition number {cond:.3g} > {COND_LIMIT:g}")
 
-def _orientation(jac: np.ndarray, pas: np.ndarray) -> float:
-    """The sign of det Phi_p (from Phi_q, ``jac``): it changes only through a singular pose."""
-    return float(np.sign(np.linalg.det(jac[:, pas])))
+
+class _Pose:
+    """A solved pose ``q`` and what the next step needs of Phi_p there: its inverse (the
+    tangent), its 1-norm condition number and the sign of its determinant (the mode)."""
+
+    def __init__(self, loops: _Loops, q: np.ndarray, jac: np.ndarray | None = None):
+        self.q = q
+        self.jac = loops.jacobian(q) if jac is None else jac
+        jp = self.jac[:, loops.pas]
+        self.sign = float(np.sign(np.linalg.det(jp)))
+        try:
+            self.inv = np.linalg.inv(jp)
+            self.cond = float(np.abs(jp).sum(axis=0).max() * np.abs(self.inv).sum(axis=0).max())
+        except np.linalg.LinAlgError:  # exactly singular
+            self.inv, self.cond = None, np.inf
 
 
-def _follow(loops: _Loops, q: np.ndarray, jac: np.ndarray, qa_to: np.ndarray, sign: float, t,
-            k: int) -> tuple[np.ndarray, np.ndarray]:
-    """From the solved pose ``q`` (Phi_q there: ``jac``) to the actuated coordinates ``qa_to``
-    of sample ``k``, staying in the assembly mode of orientation ``sign`` (see
-    ``solve_passive``). Returns the pose and Phi_q there."""
+def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int) -> _Pose:
+    """From the solved ``pose`` to the actuated coordinates ``qa_to`` of sample ``k``, in the
+    assembly mode of ``pose`` (see ``solve_passive``)."""
     act, pas = loops.act, loops.pas
-    qa_from = q[act].copy()
+    if not pose.cond <= COND_LIMIT:
+        loops.refuse_singular(pose.cond, False, t, k)
+    qa_from, sign = pose.q[act].copy(), pose.sign
     span = qa_to - qa_from
     s, ds = 0.0, 1.0 / max(1, int(np.ceil(np.max(np.abs(span)) / MAX_STEP)))
     halvings, residual = 0, 0.0
     while s < 1.0:
         ds = min(ds, 1.0 - s)
         target = qa_from + (s + ds) * span if s + ds < 1.0 else qa_to
+        step = target - pose.q[act]
         # the loops' tangent: Phi_p dq_p = -Phi_a dq_a
-        dp = -np.linalg.solve(jac[:, pas], jac[:, act] @ (target - q[act]))
-        if np.max(np.abs(dp)) > MAX_STEP and halvings < MAX_HALVINGS:
+        dp = -pose.inv @ (pose.jac[:, act] @ step)
+        # near a singular pose (condition number ~ 1 / its distance) a step may not reach it:
+        # the steps shrink as the pose nears it, so it is met (and refused), never jumped over
+        # onto another branch that meets this one there
+        too_far = np.max(np.abs(dp)) > MAX_STEP or np.max(np.abs(step)) * pose.cond > 1.0
+        if too_far and halvings < MAX_HALVINGS:
             ds, halvings = ds / 2, halvings + 1
             continue
-        guess = q.copy()
-        guess[act], guess[pas] = target, q[pas] + dp
+        guess = pose.q.copy()
+        guess[act], guess[pas] = target, pose.q[pas] + dp
         trial, residual = loops.newton(guess)
         # accepted: closed, near the prediction (no jump to another solution), same mode
         near = np.max(np.abs(trial[pas] - guess[pas])) <= 0.5 * max(np.max(np.abs(dp)), 1e-6)
-        jac_trial = loops.jacobian(trial) if residual < NEWTON_TOL_M and near else None
-        if jac_trial is not None and _orientation(jac_trial, pas) == sign:
-            q, jac, s = trial, jac_trial, s + ds
-            continue
-        if residual < NEWTON_TOL_M:
-            loops.refuse_singular(trial, s + ds >= 1.0, t, k)
+        if residual < NEWTON_TOL_M and near:
+            new = _Pose(loops, trial)
+            if not new.cond <= COND_LIMIT:
+                loops.refuse_singular(new.cond, s + ds >= 1.0, t, k)
+            if new.sign == sign:
+                pose, s = new, s + ds
+                continue
         if halvings >= MAX_HALVINGS:
             break
         ds, halvings = ds / 2, halvings + 1
     else:
-        return q, jac
-    if residual < NEWTON_TOL_M and _orientation(loops.jacobian(trial), pas) != sign:
+        return pose
+    last = _Pose(loops, trial) if residual < NEWTON_TOL_M else None
+    if last is not None and not last.cond <= COND_LIMIT:  # Newton closed it there: singular
+        loops.refuse_singular(last.cond, s + ds >= 1.0, t, k)
+    if last is not None and last.sign != sign:
         robot = loops.robot
         raise WorkspaceError(f"{robot.name}: between {_at(t, k - 1)} and {when(t, k)} the "
                              "passive joints pass a singular pose (det Phi_p changes sign): "
