@@ -95,5 +95,5 @@ def test_passive_rates_at_a_singular_pose_are_refused_by_time():
     assert re.fullmatch(r"slider_crank_slider_driven: singular pose at t = 0.5 s \(sample 1\): "
                         r"the passive-joint constraint Jacobian Phi_p has condition number "
                         r"[0-9.e+]+ > 1e\+06", str(exc.value)), str(exc.value)
-    qd, qdd = closure.complete_rates(robot, q[:1], [[0.1]], [[0.0]])
+    qd, _ = closure.complete_rates(robot, q[:1], [[0.1]], [[0.0]])
     assert np.all(np.isfinite(qd)) and qd[0, 2] == 0.1
