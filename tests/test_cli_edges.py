@@ -35,6 +35,9 @@ def _env() -> dict:
      "--dpi must be an integer from 10 to 600 (got 100000)"),
     (["draw", "serial_2dof", "--dpi", "0", "--out", "d.png"],
      "--dpi must be an integer from 10 to 600 (got 0)"),
+    # found by tests/test_hypothesis_cli.py: PIL's OverflowError writing a 1e300 s frame delay
+    (["animate", "serial_2dof_joint_move", "--fps", "1e-300"],
+     "--fps must be a number from 0.1 to 100 (got 1e-300)"),
     (["run", "serial_2dof_joint_move", "--all"], "name studies or give --all, not both"),
 ])
 def test_absurd_sizes_and_conflicts_get_one_line(tmp_path, monkeypatch, capsys, argv, message):

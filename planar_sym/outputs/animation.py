@@ -20,6 +20,11 @@ WRITERS = {".gif": "pillow", ".mp4": "ffmpeg"}
 MAX_FRAMES = 2000
 
 
+#: frames per second a picture format can hold: a GIF stores each frame's delay in 1/100 s
+#: as a 16-bit number (10 ms to 655 s); 0.1 fps is a frame every 10 s
+FPS_MIN, FPS_MAX = 0.1, 100.0
+
+
 def writer_for(path: Path, fps: float):
     """The matplotlib writer for ``path``'s suffix; refuses what cannot be written here."""
     from matplotlib import animation
@@ -30,8 +35,8 @@ def writer_for(path: Path, fps: float):
     if not animation.writers.is_available(WRITERS[suffix]):
         raise InputError(f"{path.name}: writing {suffix} needs ffmpeg, which is not installed "
                          "(not on PATH); write a .gif instead, or install ffmpeg")
-    if not (fps > 0 and math.isfinite(fps)):
-        raise InputError(f"--fps must be a positive number (got {fps})")
+    if not FPS_MIN <= fps <= FPS_MAX:  # (NaN fails too)
+        raise InputError(f"--fps must be a number from {FPS_MIN:g} to {FPS_MAX:g} (got {fps:g})")
     return animation.writers[WRITERS[suffix]](fps=fps)
 
 
