@@ -264,3 +264,15 @@ def test_holding_the_end_is_refused_only_past_the_rest_tolerance(pendulum):
     done = track(pendulum, Tracking(moving, law="pd", kp=[10.0], kd=[1.0],
                                     duration_s=1.0 + 1e-12, samples=3))
     assert done.run.t_s[-1] == 1.0 + 1e-12
+
+
+def test_gain_units_follow_the_law_and_the_coordinate():
+    """What a control study's note prints next to the gains: PD gains in N*m/rad and N*m*s/rad
+    at a revolute joint, N/m and N*s/m at a slider; computed-torque gains in 1/s^2 and 1/s."""
+    from planar_sym.control import controller
+
+    pd = controller("pd", 1.0, 0.1, width=1)
+    assert pd.gain_units("rad") == ("N*m/rad", "N*m*s/rad")
+    assert pd.gain_units("m") == ("N/m", "N*s/m")
+    ct = controller("computed_torque", 1.0, 0.1, width=1)
+    assert ct.gain_units("rad") == ct.gain_units("m") == ("1/s^2", "1/s")
