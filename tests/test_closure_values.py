@@ -38,7 +38,8 @@ def test_a_change_point_is_met_and_refused_at_any_sampling(parallelogram, n):
         closure.solve_passive(parallelogram, crank, None, t)
     msg = str(exc.value)
     k = int(np.argmax(crank[:, 0] <= 0.0))  # the first sample at or past the change point
-    between = rf"between t = {t[k - 1]:.6g} s and t = {t[k]:.6g} s \(sample {k}\)"
+    between = (rf"between t = {t[k - 1]:.6g} s \(sample {k - 1}\) and t = {t[k]:.6g} s "
+               rf"\(sample {k}\)")
     assert re.fullmatch(rf"parallelogram: singular pose {between}: the passive-joint constraint "
                         r"Jacobian Phi_p has 1-norm condition number [0-9.e+]+ > 1e\+06", msg), msg
 
@@ -74,8 +75,8 @@ def test_outside_the_workspace_is_named_by_sample_and_time():
         closure.solve_passive(five, crank, None, t)
     assert re.fullmatch(r"five_bar_type2: the loops cannot be closed at t = 0.75 s \(sample 3\) "
                         rf"for actuated coordinates \[1.570796327, 1.570796327\] {unit}"
-                        r"|five_bar_type2: singular pose between t = 0.5 s and t = 0.75 s "
-                        r"\(sample 3\): .*", str(exc.value)), str(exc.value)
+                        r"|five_bar_type2: singular pose between t = 0.5 s \(sample 2\) and "
+                        r"t = 0.75 s \(sample 3\): .*", str(exc.value)), str(exc.value)
 
 
 def test_passive_rates_at_a_singular_pose_are_refused_by_time():

@@ -123,11 +123,11 @@ def track(robot: Robot, req: Tracking) -> Tracked:
         raise InputError(f"{req.where or 'Tracking'}: motion must be a JointTrajectory (every "
                          "coordinate: inverse_kinematics, from_actuated), got "
                          f"{type(jt).__name__}")
+    t_end = req.duration_s or float(jt.t_s[-1])
+    ref_full = reference(jt, t_end, req.where)
     act = list(robot.actuated)
     error = None if req.start_error is None else as_vector(
         "start_error", req.start_error, len(act))  # one value per actuated joint
-    t_end = req.duration_s or float(jt.t_s[-1])
-    ref_full = reference(jt, t_end, req.where)
     ref = Signal(ref_full.knots_s, np.ascontiguousarray(ref_full.coefficients[:, act]))
     kp, kd = req.kp, req.kd
     if req.law != "none" and kp is None:

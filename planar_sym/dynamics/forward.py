@@ -93,15 +93,17 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     check_tolerances(rtol, atol)
     t = time_grid(t_span, t_eval)
     torque = check_torque(torque, len(robot.actuated))  # one rule for every route below
-    q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
     table = isinstance(torque, Signal)  # evaluated in C by the engine; in Python by SciPy
-    if method in ("cvodes", "idas") or (method == "dopri5" and table):
-        return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, project)
-    if table:
+    engine = method in ("cvodes", "idas") or (method == "dopri5" and table)
+    if table and not engine:
         signal = torque
 
         def torque(tt: float) -> np.ndarray:  # SciPy calls it per step, in Python
             return signal(tt)[0]
+    tau_of = _on_actuated(torque_function(torque, len(robot.actuated)), robot)
+    q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
+    if engine:
+        return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, project)
     if robot.is_closed_chain:
         from .forward_closed import DRIFT_LIMIT_M, SEGMENT_S, run_closed
 
@@ -110,7 +112,6 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
                           project_state=project)
     n = robot.n
     x0 = np.concatenate([q0, qd0])
-    tau_of = _on_actuated(torque_function(torque, len(robot.actuated)), robot)
     if method == "dopri5" and not callable(torque):
         fd = robot.library.address("forward_dynamics")
         y, n_rhs = dopri5(robot, 0, fd, x0, t, tau_of(t[0]), rtol, atol, max_steps)

@@ -24,15 +24,16 @@ from ..motion.signals import from_motion, from_table
 from . import spec as specs
 from .columns import coordinates_note, task_series
 from .motion import check_width, coordinate_scale, joint_motion
-from .parameters import with_overrides
 from .result import Result, Series, coordinate_column
 
 
-def run_control(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
+def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
+                plant: Robot | None = None) -> Result:
+    """Track the study's motion with ``robot`` as the controller's model and ``plant`` (the
+    study's [control.plant] applied, by ``study.run``) as the machine that moves."""
     cs = st.control
     where = str(st.path or st.name)
     # the study read into one request in SI (its fields checked here, by name), then tracked
-    plant = with_overrides(robot, cs.plant, f"{where}: control.plant") if cs.plant else None
     kp, kd = _given_gains(st, robot)
     start_error, limits = _start_error(st, robot), _limits(st, robot)
     jt, _ = joint_motion(st, robot)

@@ -82,7 +82,10 @@ def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
     if st.kind == "control":
         from .control_run import run_control
 
-        return run_control(st, robot, samples)
+        # the plant: the same description with the values [control.plant] sets (checked SI)
+        plant = (with_overrides(robot, st.control.plant, f"{st.path or st.name}: control.plant")
+                 if st.control.plant else None)
+        return run_control(st, robot, samples, plant)
     jt, x = joint_motion(st, robot, samples)
     return _inverse(st, robot, jt, x)
 
