@@ -22,6 +22,7 @@ from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal, from_motion
 from .events import Event, EventSpec, actuator_events, joint_limit_events, output_events
+from .integrate import check_torque
 from .laws import Controller
 from .run_result import Simulation, labels
 from .segments import friction, run_segments
@@ -342,9 +343,7 @@ def _reference(robot: Robot, reference, ctl: Controller) -> Signal | None:
 def _torque_input(torque, na: int, t0: float, t1: float):
     if torque is None or isinstance(torque, Signal):
         if isinstance(torque, Signal):
-            if torque.channels != na:
-                raise InputError(f"the torque table has {torque.channels} columns for {na} "
-                                 "actuated joints")
+            check_torque(torque, na)  # its width, by simulate's rule
             torque.covers(t0, t1, "the torque table")
         return torque
     if callable(torque):

@@ -13,6 +13,8 @@ the passive joints are not determined (a singular Phi_p), a sample is refused an
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ..errors import InputError, WorkspaceError
@@ -52,8 +54,6 @@ def warn_near_singular(robot_name: str, cond: np.ndarray, t=None) -> None:
     near = cond > COND_WARN
     if not near.any():
         return
-    import warnings
-
     k, worst = int(np.argmax(near)), int(np.argmax(cond))
     warnings.warn(f"{robot_name}: near a singular pose from {when(t, k)}: the passive-joint "
                   f"constraint Jacobian Phi_p has 1-norm condition number {cond[k]:.3g} "

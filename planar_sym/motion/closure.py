@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, WorkspaceError
-from ..model.arrays import as_sample_set, as_samples
+from ..model.arrays import as_sample_set, as_samples, when
 from ..model.library import SingleCall
 from ..model.loops import COND_LIMIT, refuse_singular_matrices
 from ..model.robot import Robot
@@ -106,7 +106,7 @@ class _Loops:
 
     def refuse_outside(self, qa, residual: float, t, k: int):
         robot = self.robot
-        raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {_at(t, k)} "
+        raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {when(t, k)} "
                              f"for actuated coordinates {np.round(qa, 9).tolist()} "
                              f"({', '.join(robot.coordinate_units[i] for i in self.act)}) "
                              f"(|Phi| = {residual:.3g} m): outside the workspace")
@@ -114,7 +114,7 @@ class _Loops:
     def refuse_singular(self, cond: float, at_sample: bool, t, k: int) -> None:
         """WorkspaceError for a pose whose Phi_p has 1-norm condition number ``cond`` above
         COND_LIMIT: sample ``k`` itself, or on the way from the sample before."""
-        where = _at(t, k) if at_sample else f"between {_at(t, k - 1)} and {_at(t, k)}"
+        where = when(t, k) if at_sample else f"between {when(t, k - 1)} and {when(t, k)}"
         raise WorkspaceError(f"{self.robot.name}: singular pose {'at ' if at_sample else ''}"
                              f"{where}: the passive-joint constraint Jacobian Phi_p has "
                              f"1-norm condition number {cond:.3g} > {COND_LIMIT:g}")
@@ -181,16 +181,11 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int) -> _Pose:
         loops.refuse_singular(last.cond, s + ds >= 1.0, t, k)
     if last is not None and last.sign != sign:
         robot = loops.robot
-        raise WorkspaceError(f"{robot.name}: between {_at(t, k - 1)} and {_at(t, k)} the "
+        raise WorkspaceError(f"{robot.name}: between {when(t, k - 1)} and {when(t, k)} the "
                              "passive joints pass a singular pose (det Phi_p changes sign): "
                              "the loops would go on in another assembly mode, so the motion "
                              "leaves the workspace of the mode it started in")
     loops.refuse_outside(qa_to, residual, t, k)
-
-
-def _at(t, k: int) -> str:
-    """How a refusal names sample ``k`` (as ``model.arrays.when``; both ends of a step)."""
-    return f"t = {t[k]:.6g} s (sample {k})" if t is not None else f"sample {k}"
 
 
 def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray, np.ndarray]:
