@@ -41,6 +41,16 @@ def test_options_that_repeat_by_design_still_do(capsys, tmp_path):
     code, err = _run(capsys, "atlas", "serial_2dof", "--x", "0", "0.1", "--x", "0", "0.2",
                      "--out", str(tmp_path / "a"))
     assert (code, err) == (2, TWICE.replace("--samples", "--x"))
+    # --set repeats for different parameters, not for the same one (tried as a student)
+    code, err = _run(capsys, "move", "serial_2dof", "--joint", "--from", "0,0", "--by", "10,0",
+                     "--duration", "1", "--set", "m_link1=2", "--set", "m_link1=3", "--out",
+                     str(tmp_path / "m"))
+    assert (code, err) == (2, "error: --set m_link1 is given more than once: give it once")
+    assert not (tmp_path / "m").exists()
+    code, err = _run(capsys, "move", "serial_2dof", "--joint", "--from", "0,0", "--by", "10,0",
+                     "--duration", "1", "--set", "m_link1=2", "--set", "m_link2=3", "--out",
+                     str(tmp_path / "m"), "--quiet")
+    assert (code, err) == (0, "")
 
 
 def test_the_environment_is_read_by_one_rule(capsys, tmp_path, monkeypatch):

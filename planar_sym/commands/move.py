@@ -78,6 +78,8 @@ def study_table(args) -> dict:
         key, sep, value = item.partition("=")
         if not sep or not key.strip():
             raise InputError(f"--set must be NAME=VALUE (got {item!r})")
+        if key.strip() in params:  # as with an option given twice: the last would win
+            raise InputError(f"--set {key.strip()} is given more than once: give it once")
         value = value.strip()
         try:
             params[key.strip()] = float(value)
