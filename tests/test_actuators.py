@@ -123,7 +123,7 @@ def _bad(tmp_path, old: str, new: str):
 @pytest.mark.parametrize("old,new,field,message", [
     ("gear_ratio = 50", "gear_ratio = 0", "actuator.gear_ratio", "must be > 0 (got 0)"),
     ("rotor_inertia = 0.5", "rotor_inertia = -0.5", "actuator.rotor_inertia",
-     "must be >= 0 (got -0.5)"),
+     "must be >= 0 kg*mm^2 (got -0.5)"),
     ("torque_limit = 0.8", "torque_limit = 0", "actuator.torque_limit", "must be > 0"),
     ("motor_speed_limit_rpm = 3000", "motor_speed_limit_rpm = -1",
      "actuator.motor_speed_limit_rpm", "must be > 0"),

@@ -52,7 +52,7 @@ def test_the_unedited_copy_is_valid(tmp_path):
 def test_non_positive_mass(tmp_path, value):
     path = edited(tmp_path, SERIAL, ("mass = 0.071", f"mass = {value}"))
     assert problems_of(path) == [
-        f"{path}: bodies[0] (link1).mass: must be > 0 (got {float(value)})"]
+        f"{path}: bodies[0] (link1).mass: must be > 0 kg (got {float(value):g})"]
 
 
 def test_negative_inertia(tmp_path):

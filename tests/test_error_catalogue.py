@@ -225,15 +225,15 @@ def actuated_string(ctx):
 
 
 @bad(DESC, "zero mass: `mass = 0.0`", DescriptionError,
-     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be > 0 \(got 0\.0\)",
-     "bad.toml: bodies[0] (link1).mass: must be > 0 (got 0.0)", TD + "test_non_positive_mass")
+     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be > 0 kg \(got 0\)",
+     "bad.toml: bodies[0] (link1).mass: must be > 0 kg (got 0)", TD + "test_non_positive_mass")
 def zero_mass(ctx):
     _desc(ctx, SERIAL, ("mass = 0.071", "mass = 0.0"))
 
 
 @bad(DESC, "negative mass: `mass = -0.071`", DescriptionError,
-     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be > 0 \(got -0\.071\)",
-     "bad.toml: bodies[0] (link1).mass: must be > 0 (got -0.071)", TD + "test_non_positive_mass")
+     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be > 0 kg \(got -0\.071\)",
+     "bad.toml: bodies[0] (link1).mass: must be > 0 kg (got -0.071)", TD + "test_non_positive_mass")
 def negative_mass(ctx):
     _desc(ctx, SERIAL, ("mass = 0.071", "mass = -0.071"))
 
@@ -246,8 +246,8 @@ def nan_mass(ctx):
 
 
 @bad(DESC, "negative inertia: `izz = -109.864`", DescriptionError,
-     r"bad\.toml: bodies\[2\] \(link2\)\.izz: must be >= 0 \(got -109\.864\)",
-     "bad.toml: bodies[2] (link2).izz: must be >= 0 (got -109.864)", TD + "test_negative_inertia")
+     r"bad\.toml: bodies\[2\] \(link2\)\.izz: must be >= 0 kg\*mm\^2 \(got -109\.864\)",
+     "bad.toml: bodies[2] (link2).izz: must be >= 0 kg*mm^2 (got -109.864)", TD + "test_negative_inertia")
 def negative_inertia(ctx):
     _desc(ctx, SERIAL, ("izz = 109.864", "izz = -109.864"))
 
@@ -1081,9 +1081,9 @@ def cli_unknown_study(ctx):
 @bad(CLI, "`planar-sym derive bad.toml --out DIR` with a negative mass: nothing written",
      CommandFailed,
      r"^error: invalid robot description:\n  .*bad\.toml: bodies\[0\] \(link1\)\.mass: must be "
-     r"> 0 \(got -1\.0\)",
-     "error: invalid robot description:\n  bad.toml: bodies[0] (link1).mass: must be > 0 "
-     "(got -1.0)", TD + "test_derive_refuses_and_writes_nothing")
+     r"> 0 kg \(got -1\)",
+     "error: invalid robot description:\n  bad.toml: bodies[0] (link1).mass: must be > 0 kg "
+     "(got -1)", TD + "test_derive_refuses_and_writes_nothing")
 def cli_derive_bad(ctx):
     path = ctx.edited(SERIAL, ("mass = 0.071", "mass = -1.0"))
     out = ctx.tmp / "out"
@@ -1233,8 +1233,10 @@ def runtime_inertia_slip(ctx):
 
 
 @bad(LOOPS, "gravity in mm/s^2 at run time: `with_parameters(g=9810)`", InputError,
-     r"parameter g must be from 0 to 300 m/s\^2 \(got 9810\); a unit slip\?",
-     "serial_2dof: parameter g must be from 0 to 300 m/s^2 (got 9810); a unit slip?")
+     r"parameter g \(gravity magnitude\) must be from 0 to 300 m/s\^2 \(got 9810\); a unit "
+     r"slip\?",
+     "serial_2dof: parameter g (gravity magnitude) must be from 0 to 300 m/s^2 (got 9810); a "
+     "unit slip?")
 def runtime_gravity_slip(ctx):
     _arm().with_parameters(g=9810.0)
 
@@ -1794,20 +1796,70 @@ def gear_ratio_zero(ctx):
 
 
 @bad(DESC, "a negative rotor inertia", DescriptionError,
-     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.rotor_inertia: must be >= 0 "
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.rotor_inertia: must be >= 0 kg\*mm\^2 "
      r"\(got -0\.5\)",
-     "bad.toml: joints[0] (joint1).actuator.rotor_inertia: must be >= 0 (got -0.5): rotor "
+     "bad.toml: joints[0] (joint1).actuator.rotor_inertia: must be >= 0 kg*mm^2 (got -0.5): rotor "
      "inertia about its axis, in [units].inertia, >= 0", TA + "test_bad_actuators")
 def rotor_inertia_negative(ctx):
     _desc(ctx, ACT, ("rotor_inertia = 0.5", "rotor_inertia = -0.5"))
 
 
 @bad(DESC, "a limit that is not positive", DescriptionError,
-     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.torque_limit: must be > 0 \(got 0\)",
-     "bad.toml: joints[0] (joint1).actuator.torque_limit: must be > 0 (got 0): largest joint "
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.torque_limit: must be > 0 N\*m \(got 0\)",
+     "bad.toml: joints[0] (joint1).actuator.torque_limit: must be > 0 N*m (got 0): largest joint "
      "torque (force), N*m (N), > 0", TA + "test_bad_actuators")
 def torque_limit_zero(ctx):
     _desc(ctx, ACT, ("torque_limit = 0.8", "torque_limit = 0"))
+
+
+@bad(DESC, "a mass typed in grams with `mass = \"kg\"`: `mass = 75.0` for a 75 g forearm",
+     Warned,
+     r"bad\.toml: bodies\[2\] \(link2\)\.mass: 75 kg \(read in kg\) is more than osmium "
+     r"filling the ball its points reach from its centre of gravity \(58\.32 mm\) would weigh "
+     r"\(18\.77 kg\); a slip\? In \"g\" it would be 0\.075 kg",
+     "bad.toml: bodies[2] (link2).mass: 75 kg (read in kg) is more than osmium filling the ball "
+     "its points reach from its centre of gravity (58.32 mm) would weigh (18.77 kg); a slip? In "
+     "\"g\" it would be 0.075 kg", "tests/test_quantity_routes.py")
+def mass_in_grams(ctx):
+    _warned(ctx, ACT, ("mass = 0.075", "mass = 75.0"))
+
+
+@bad(DESC, "a gear ratio upside down: `gear_ratio = 0.02` for a 50:1 gearbox", Warned,
+     r"bad\.toml: joints\[0\] \(joint1\)\.actuator\.gear_ratio: 0\.02 is below the plausible "
+     r"0\.1 for a gear ratio; a slip\? Upside down \(joint turns per motor turn\) it would be "
+     r"50",
+     "bad.toml: joints[0] (joint1).actuator.gear_ratio: 0.02 is below the plausible 0.1 for a "
+     "gear ratio; a slip? Upside down (joint turns per motor turn) it would be 50",
+     "tests/test_quantity_routes.py")
+def gear_ratio_upside_down(ctx):
+    _warned(ctx, ACT, ("gear_ratio = 50", "gear_ratio = 0.02"))
+
+
+@bad(ARRAYS, "a friction typed in N*mm at run time: `with_parameters(fc_joint1=5)` on the "
+             "geared arm (5 N*mm meant)", Warned,
+     r"serial_2dof_geared: parameter fc_joint1 = 5 N\*m \(read in N\*m\) is 1000 times the "
+     r"robot's own 0\.005 N\*m; a slip\? In N\*mm it would be 0\.005 N\*m",
+     "serial_2dof_geared: parameter fc_joint1 = 5 N*m (read in N*m) is 1000 times the robot's "
+     "own 0.005 N*m; a slip? In N*mm it would be 0.005 N*m", "tests/test_quantity_routes.py")
+def runtime_friction_slip(ctx):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ps.load(ROOT / "examples" / "serial_2dof_geared.toml").with_parameters(fc_joint1=5.0)
+    slips = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert len(slips) == 1, [str(w.message) for w in caught]
+    raise Warned(str(slips[0].message))
+
+
+@bad(ARRAYS, "a torque at a joint with no motor: `forward_dynamics` of the cart-pole with 0.5 "
+             "N*m at its hinge", InputError,
+     r"cart_pole: joint hinge has no motor \(actuated = false\) but tau gives it 0\.5 at sample "
+     r"0",
+     "cart_pole: joint hinge has no motor (actuated = false) but tau gives it 0.5 at sample 0: "
+     "give 0 there (a passive joint's torque is zero), or mark the joint actuated",
+     "tests/test_quantity_routes.py")
+def torque_at_passive_joint(ctx):
+    ps.load(TEST_ROBOTS / "cart_pole.toml").forward_dynamics(np.zeros(2), np.zeros(2),
+                                                            np.array([1.0, 0.5]))
 
 
 @bad(DESC, "an actuator on a passive joint", DescriptionError,
@@ -2136,10 +2188,12 @@ def sweep_not_physical(ctx):
 
 @bad(DESIGN, "a sweep range typed in grams as kg: `vary={\"m_link2\": [50, 100]}` for a 75 g "
              "forearm", Warned,
-     r"m_link2 from 50 to 100 kg reaches 667 to 1\.33e\+03 times serial_2dof's 0\.075 kg: a "
-     r"unit slip\? \(sweeps take SI units\)",
-     "m_link2 from 50 to 100 kg reaches 667 to 1.33e+03 times serial_2dof's 0.075 kg: a unit "
-     "slip? (sweeps take SI units)", see="tests/test_sweep.py")
+     r"sweep range m_link2 from 50 to 100: parameter m_link2 = 50 kg \(read in kg\) is more than "
+     r"osmium filling the ball its points reach from its centre of gravity \(58\.32 mm\) would "
+     r"weigh \(18\.77 kg\); a slip\? In \"g\" it would be 0\.05 kg \(sweeps take SI units\)",
+     "sweep range m_link2 from 50 to 100: parameter m_link2 = 50 kg (read in kg) is more than "
+     "osmium filling the ball its points reach from its centre of gravity (58.32 mm) would weigh "
+     "(18.77 kg); a slip? In \"g\" it would be 0.05 kg (sweeps take SI units)", see="tests/test_sweep.py")
 def sweep_unit_slip(ctx):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -57,7 +57,7 @@ def test_cart_pole_dynamics_analytic(cart_pole, rng):
     assert rel_err(cart_pole.tree_inverse_dynamics(q, qd, qdd), cart_pole_tau(q, qd, qdd)) < 1e-12
     # forward of inverse: the generated M^-1 (tau - h) returns qdd
     tau = cart_pole_tau(q, qd, qdd)
-    assert rel_err(cart_pole.forward_dynamics(q, qd, tau), qdd) < 1e-11
+    assert rel_err(cart_pole.tree_forward_dynamics(q, qd, tau), qdd) < 1e-11
     # the body frames: the cart's origin slides by d1 from x = 0.3
     fr = cart_pole.frames(q)
     assert np.max(np.abs(fr[:, 0, 0] - (0.3 + q[:, 0]))) < 1e-15

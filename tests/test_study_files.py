@@ -245,7 +245,7 @@ def test_list_shows_a_folder_of_ones_own(tmp_path, capsys):
     ({"izz_link2": -1e-6}, "parameter izz_link2 must be >= 0 kg*m^2"),
     ({"izz_link1": 89.395}, "radius of gyration of 3.548e+04 mm"),  # kg*mm^2 typed as kg*m^2
     ({"izz_link1": 0.0}, "izz_link1 must be > 0 for a body with extent"),
-    ({"g": 9810.0}, "parameter g must be from 0 to 300 m/s^2 (got 9810)"),
+    ({"g": 9810.0}, "parameter g (gravity magnitude) must be from 0 to 300 m/s^2 (got 9810)"),
     ({"m_motor2": float("inf")}, "parameter m_motor2 must be finite (got inf)"),
 ])
 def test_parameters_changed_at_run_time_are_checked(override, message):

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..model.parameters import failing, problems
+from ..model.parameters import doubts, failing, problems
 from ..model.robot import Robot
 
 #: the largest design matrix a sweep builds in memory (bytes); beyond it the sweep is refused
@@ -156,36 +156,34 @@ def design_space(robot: Robot, vary: dict, *, sample: str = "grid", count: int |
     return DesignSpace(names, units, values, np.ascontiguousarray(P), sample)
 
 
-#: a varied value this many times the base robot's (or its inverse) is likely a unit slip
-#: (grams as kg, mm as m: 1000x); physically possible, so warned about, not refused
-SLIP_RATIO = 100.0
-
-
 def _warn_unit_slip(robot: Robot, names, units, values: np.ndarray) -> None:
-    """Warn, once per parameter, where a range reaches SLIP_RATIO times the base value."""
+    """Warn, once per parameter, where a range's end is likely a slip: the table's rules
+    (``model.parameters.doubts``) that every other route applies, on the smallest and the
+    largest value of the range."""
     import warnings
 
-    base = robot.parameters
+    own = {p.name: p.value for p in robot.parameter_list}
     for k, (name, unit) in enumerate(zip(names, units)):
-        b = base[name]
-        if b == 0.0:
-            continue
-        ratio = np.abs(values[:, k] / b)
-        if ratio.max() >= SLIP_RATIO or ratio.min() <= 1.0 / SLIP_RATIO:
-            warnings.warn(f"{name} from {values[:, k].min():.6g} to {values[:, k].max():.6g} "
-                          f"{unit} reaches {ratio.min():.3g} to {ratio.max():.3g} times "
-                          f"{robot.name}'s {b:.6g} {unit}: a unit slip? (sweeps take SI units)",
-                          RuntimeWarning, stacklevel=3)
+        ends = (values[:, k].min(), values[:, k].max())
+        for end in dict.fromkeys(ends):
+            found = doubts([name], {**own, name: float(end)}, {name: unit}, own,
+                           robot.body_names)
+            if found:
+                warnings.warn(f"sweep range {name} from {ends[0]:.6g} to {ends[1]:.6g}: "
+                              f"{found[0]} (sweeps take SI units)", RuntimeWarning,
+                              stacklevel=3)
+                break
 
 
 def _check_physical(robot: Robot, names, values: np.ndarray, P: np.ndarray) -> None:
     """Refuse the sweep at its first non-physical design, naming the values that make it so
     (the rules checked on whole columns at once, ``model.parameters.failing``)."""
     known = [par.name for par in robot.parameter_list]
-    bad = failing(known, P, robot.body_names)
+    units = {par.name: par.unit for par in robot.parameter_list}
+    bad = failing(known, P, robot.body_names, units)
     if bad.any():
         k = int(np.argmax(bad))
-        found = problems(dict(zip(known, map(float, P[k]))), robot.body_names)
+        found = problems(dict(zip(known, map(float, P[k]))), robot.body_names, units)
         what = ", ".join(f"{n} = {values[k, i]:.6g}" for i, n in enumerate(names))
         raise InputError(f"design {k} ({what}) is not physical: {'; '.join(found)} "
                          f"({int(bad.sum())} of {len(P)} designs are not); narrow the range")

@@ -118,7 +118,7 @@ def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
                     f"{prefix}inverse_dynamics.tau": (r.tree_inverse_dynamics(q, qd, qdd),
                                                       ref["tau"])})
         if not robot.is_closed_chain:
-            got[f"{prefix}forward_dynamics.qdd"] = (r.forward_dynamics(q, qd, ref["tau"]), qdd)
+            got[f"{prefix}forward_dynamics.qdd"] = (r.tree_forward_dynamics(q, qd, ref["tau"]), qdd)
     if robot.is_closed_chain:
         terms = fns["constrained_terms"](samples, {"q": q, "qd": qd, "p": robot.p})
         got.update({"constrained_terms.M": (terms["M"], ref["M"]),
@@ -128,8 +128,8 @@ def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
         args = {"q": q, "qd": qd, "tau": tau, "p": robot.p}
         jac = fns["forward_dynamics_jacobian"](samples, args)
         eye = np.eye(robot.n)
-        by_q = [_diff(lambda x: robot.forward_dynamics(x, qd, tau), q, e) for e in eye]
-        by_qd = [_diff(lambda x: robot.forward_dynamics(q, x, tau), qd, e) for e in eye]
+        by_q = [_diff(lambda x: robot.tree_forward_dynamics(x, qd, tau), q, e) for e in eye]
+        by_qd = [_diff(lambda x: robot.tree_forward_dynamics(q, x, tau), qd, e) for e in eye]
         got["forward_dynamics_jacobian.dqdd_dq"] = (jac["dqdd_dq"], np.stack(by_q, axis=2))
         got["forward_dynamics_jacobian.dqdd_dqd"] = (jac["dqdd_dqd"], np.stack(by_qd, axis=2))
     errs = {k: rel_err(a, b, scale=scales.get(k, 0.0)) for k, (a, b) in got.items()}

@@ -74,7 +74,7 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
                 "inverse_dynamics.tau": robot.tree_inverse_dynamics(q, qd, qdd),
                 "energy.kinetic": robot.energy(q, qd)[0]}
         if not robot.is_closed_chain:
-            fast["forward_dynamics.qdd"] = robot.forward_dynamics(q, qd, tau)
+            fast["forward_dynamics.qdd"] = robot.tree_forward_dynamics(q, qd, tau)
         errs.update({f"fast {k}": rel_err(v, refs[k.split(".")[1]]) for k, v in fast.items()})
     where = worst_key(errs)
     return row(name, errs[where], TOL_SYMBOLIC, f"worst: {where}; from {path}")

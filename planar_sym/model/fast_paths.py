@@ -38,9 +38,10 @@ def _recipes(library, cls, closed: bool, fully_actuated: bool) -> tuple:
     methods = {"mass_matrix": "mass_matrix", "bias": "bias", "gravity": "gravity",
                "tree_inverse_dynamics": "inverse_dynamics", "energy": "energy"}
     if not closed:
-        methods.update(forward_dynamics="forward_dynamics")
-        if fully_actuated:  # else the method refuses (passive joints)
-            methods.update(inverse_dynamics="inverse_dynamics")
+        methods.update(tree_forward_dynamics="forward_dynamics")
+        if fully_actuated:  # else the methods check the passive joints first
+            methods.update(forward_dynamics="forward_dynamics",
+                           inverse_dynamics="inverse_dynamics")
     else:
         methods.update(constraint="constraint", constraint_jacobian="constraint_jacobian",
                        constraint_bias="constraint_bias",

@@ -150,4 +150,4 @@ def _restore(ref: tuple[str, str | None, str | None], input_hash: str, p: np.nda
                            f"the pickled one ({input_hash[:16]}...): derive the same description")
     if exact != robot.exact:
         robot = Robot(robot.name, robot.library, exact=exact)
-    return robot.with_values(robot.parameters.with_vector(p))
+    return robot.with_values(robot.parameters.with_vector(p, warn=False))  # judged before

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from .arrays import as_samples
-from .parameters import problems
+from .parameters import doubts, problems
 
 
 @dataclass(frozen=True)
@@ -114,14 +114,30 @@ class Parameters(Mapping):
         """Raise InputError naming every value the description's rules refuse (finite; masses
         > 0; plausible inertias and gravity; the drive train's ratios, rotors and friction),
         after ``where`` (a file and table) or the owner."""
-        found = problems(dict(self.items()), self.bodies)
+        found = problems(dict(self.items()), self.bodies, self._units())
         if found:
             raise InputError(f"{where or self.owner}: " + "; ".join(found))
 
-    def replace(self, where: str = "", **values: float) -> Parameters:
+    def warn_doubtful(self, names, where: str = "", typed: dict | None = None) -> None:
+        """A RuntimeWarning for each of ``names`` whose value is likely a slip (the table's
+        plausibility rules, and far from the derived value where another reading lands near
+        it: ``model.parameters.doubts``), after ``where`` or the owner."""
+        import warnings
+
+        derived = {p.name: p.value for p in self.entries}
+        for msg in doubts(list(names), dict(self.items()), self._units(), derived, self.bodies,
+                          typed):
+            warnings.warn(f"{where or self.owner}: {msg}", RuntimeWarning, stacklevel=4)
+
+    def _units(self) -> dict[str, str]:
+        return {p.name: p.unit for p in self.entries}
+
+    def replace(self, where: str = "", typed: dict | None = None, **values: float) -> Parameters:
         """A new Parameters with ``values`` (name -> SI value) changed, checked: an unknown
         name, a value that is not a finite number or one a rule refuses raises InputError
-        (after ``where``, the file and table the values came from, where given)."""
+        (after ``where``, the file and table the values came from, where given). ``typed``
+        names the value as the user typed it and the unit it was read in ({name: (value,
+        unit)}), for the warnings about a likely slip."""
         p = self.vector.copy()
         head = f"{where}: " if where else ""
         for name, value in values.items():
@@ -138,14 +154,21 @@ class Parameters(Mapping):
                                  f"{value!r})")
         out = self._sibling(p)
         out.check(where)
+        out.warn_doubtful(values, where, typed)
         return out
 
-    def with_vector(self, vector, *, checked: bool = False) -> Parameters:
+    def with_vector(self, vector, *, checked: bool = False, warn: bool = True) -> Parameters:
         """A new Parameters with every value from ``vector`` (SI, in ``entries`` order),
         checked by the rules unless ``checked`` says the caller already did (a sweep checks
-        its designs' columns at once with ``model.parameters.failing``, the same rules)."""
+        its designs' columns at once with ``model.parameters.failing``, the same rules), with
+        the table's warnings on changed values unless ``warn`` is False (values that were
+        judged already, a robot coming back from a pickle)."""
         if not checked:
-            return Parameters(self.entries, vector, bodies=self.bodies, owner=self.owner)
+            out = Parameters(self.entries, vector, bodies=self.bodies, owner=self.owner)
+            if warn:
+                out.warn_doubtful([p.name for p, a, b in zip(self.entries, out.vector,
+                                                             self.vector) if a != b])
+            return out
         return self._sibling(as_samples("parameters", vector, len(self.entries))[0].copy())
 
     def _sibling(self, vector: np.ndarray) -> Parameters:

@@ -7,37 +7,75 @@ Rules, with their figures:
 * a radius of gyration sqrt(izz / m) at most ``GYRATION_LIMIT`` (3) times the body's extent,
   the largest distance from its centre of gravity to its points (as in the description; here
   the points the equations use and the frame origin, which is always one of its points);
-* gravity magnitude ``g`` from 0 to ``G_LIMIT`` = 300 m/s^2 (the Sun's surface gives 274;
-  more is a unit slip such as mm/s^2 read as m/s^2), the bound the description's gravity has;
-* the drive train, as ``[joints.actuator]`` is checked (``ACTUATOR_RULES``): gear ratios and
-  Coulomb smoothing speeds > 0; rotor inertias, viscous and Coulomb friction >= 0.
+* every other quantity by its row of the one table (``description.quantities``) that
+  ``[joints.actuator]`` and the description's fields are checked by too: gravity magnitude
+  ``g`` from 0 to ``G_LIMIT`` = 300 m/s^2 (the Sun's surface gives 274; more is a unit slip
+  such as mm/s^2 read as m/s^2); gear ratios and Coulomb smoothing speeds > 0; rotor inertias,
+  viscous and Coulomb friction >= 0;
+* ``doubts``: the table's plausibility warnings (a likely slip: a value outside its plausible
+  range, or far from the robot's own value where another reading of it lands near it).
 """
 
 from __future__ import annotations
 
 import math
 
-from .description import CLOSURE_TOLERANCE_M, G_LIMIT, GYRATION_LIMIT
-
-#: parameter prefix -> (strictly positive?, what it is, unit): the rules of [joints.actuator]
-ACTUATOR_RULES = {
-    "gear_": (True, "gear ratio", "(motor rad per joint rad, or per m)"),
-    "vs_": (True, "Coulomb smoothing speed", "rad/s (m/s)"),
-    "jm_": (False, "rotor inertia", "kg*m^2"),
-    "fv_": (False, "viscous friction", "N*m*s/rad (N*s/m)"),
-    "fc_": (False, "Coulomb friction", "N*m (N)"),
-}
+from .description import CLOSURE_TOLERANCE_M, GYRATION_LIMIT
+from .description.quantities import (
+    QUANTITIES,
+    doubt,
+    inertia_doubt,
+    mass_doubt,
+    of_parameter,
+)
 
 
-def _actuator_problem(name: str, v: float) -> str | None:
-    for prefix, (positive, what, unit) in ACTUATOR_RULES.items():
-        if name.startswith(prefix) and ((positive and not v > 0) or v < 0):
-            return (f"parameter {name} ({what}) must be {'> 0' if positive else '>= 0'} {unit} "
-                    f"(got {v:.6g})")
-    return None
+def _physical(name: str, v: float, unit: str) -> str | None:
+    """The table's physical rule for a parameter other than mass and inertia (which the body
+    rules below judge with the body's extent)."""
+    q = of_parameter(name, unit)
+    if q is None or name.startswith(("m_", "izz_")) or (msg := q.error(v)) is None:
+        return None
+    return (f"parameter {name} ({q.what}) {msg}"
+            + ("; a unit slip?" if name == "g" and v > 0 else ""))
 
 
-def problems(values: dict[str, float], bodies: tuple[str, ...]) -> list[str]:
+def doubts(names, values: dict[str, float], units: dict[str, str],
+           reference: dict[str, float], bodies: tuple[str, ...] = (),
+           typed: dict[str, tuple[float, str]] | None = None) -> list[str]:
+    """A warning for each parameter of ``names`` whose value in ``values`` (every name -> SI,
+    physical) is likely a slip: outside its quantity's plausible range, or far from the robot's
+    own value (``reference``) where another reading of it lands near; a body's mass heavier
+    than osmium filling its reach, or its inertia's radius of gyration below 1% of its reach
+    (``description.quantities``, the description's table and rules). ``typed``: a value as the
+    user typed it and the unit it was read in, {name: (value, unit)}, where not SI."""
+    typed = typed or {}
+    out, judged = [], set()
+    for body in bodies:
+        m, izz = f"m_{body}", f"izz_{body}"
+        if (m in names or izz in names) and m in values and izz in values:
+            extent = _extent(values, body, bodies)
+            if extent < CLOSURE_TOLERANCE_M:
+                continue
+            if m in names and (msg := mass_doubt(*typed.get(m, (values[m], "kg")),
+                                                 extent)) is not None:
+                out.append(f"parameter {m} = {msg}")
+                judged.add(m)
+            elif (msg := inertia_doubt(*typed.get(izz, (values[izz], "kg*m^2")), values[m],
+                                       extent)) is not None:
+                out.append(f"parameter {izz} = {msg}")
+                judged.add(izz)
+    for name in names:
+        q = of_parameter(name, units.get(name, ""))
+        if name not in judged and q is not None and (
+                msg := doubt(q, *typed.get(name, (values[name], q.unit)),
+                             reference=reference.get(name))) is not None:
+            out.append(f"parameter {name} = {msg}")
+    return out
+
+
+def problems(values: dict[str, float], bodies: tuple[str, ...],
+             units: dict[str, str] | None = None) -> list[str]:
     """Every physical problem of ``values`` (name -> SI value), one message each."""
     out = []
     for name, v in values.items():
@@ -45,17 +83,15 @@ def problems(values: dict[str, float], bodies: tuple[str, ...]) -> list[str]:
             out.append(f"parameter {name} must be finite (got {v!r})")
     if out:
         return out
-    g = values.get("g")
-    if g is not None and not 0.0 <= g <= G_LIMIT:
-        out.append(f"parameter g must be from 0 to {G_LIMIT:g} m/s^2 (got {g:.6g}); a unit slip?")
-    out += [msg for name, v in values.items() if (msg := _actuator_problem(name, v))]
+    units = units or {}
+    out += [msg for name, v in values.items() if (msg := _physical(name, v, units.get(name, "")))]
     for body in bodies:
         m, izz = values.get(f"m_{body}"), values.get(f"izz_{body}")
-        if m is not None and not m > 0:
-            out.append(f"parameter m_{body} must be > 0 kg (got {m:.6g})")
+        if m is not None and (msg := QUANTITIES["mass"].error(m)) is not None:
+            out.append(f"parameter m_{body} {msg}")
             continue
-        if izz is not None and izz < 0:
-            out.append(f"parameter izz_{body} must be >= 0 kg*m^2 (got {izz:.6g})")
+        if izz is not None and (msg := QUANTITIES["inertia"].error(izz)) is not None:
+            out.append(f"parameter izz_{body} {msg}")
             continue
         if m is None or izz is None:
             continue
@@ -88,7 +124,7 @@ def _extent(values: dict[str, float], body: str, bodies: tuple[str, ...]) -> flo
     return max(math.dist(cg, xy) for xy in points.values())
 
 
-def failing(names: list[str], P, bodies: tuple[str, ...]):
+def failing(names: list[str], P, bodies: tuple[str, ...], units: dict[str, str] | None = None):
     """Which rows of ``P`` (designs, parameters in ``names`` order, SI) break a rule of
     ``problems``: the same rules, evaluated on whole columns at once (a sweep checks 10^5
     designs in milliseconds); ``problems`` then words the message for a failing row."""
@@ -97,12 +133,13 @@ def failing(names: list[str], P, bodies: tuple[str, ...]):
     P = np.asarray(P, dtype=float)
     col = {n: P[:, k] for k, n in enumerate(names)}
     bad = ~np.all(np.isfinite(P), axis=1)
-    if "g" in col:
-        bad |= ~((col["g"] >= 0.0) & (col["g"] <= G_LIMIT))
+    units = units or {}
     for name, v in col.items():
-        for prefix, (positive, _, _) in ACTUATOR_RULES.items():
-            if name.startswith(prefix):
-                bad |= ~(v > 0) if positive else v < 0
+        q = of_parameter(name, units.get(name, ""))
+        if q is None or q.signed or name.startswith(("m_", "izz_")):
+            continue
+        bad |= ~(v > q.low) if q.strict else v < q.low
+        bad |= v > q.high
     with np.errstate(invalid="ignore", divide="ignore"):
         for body in bodies:
             m, izz = col.get(f"m_{body}"), col.get(f"izz_{body}")

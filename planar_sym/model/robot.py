@@ -302,6 +302,20 @@ class Robot(LoopFunctions):
                 "there is no torque to return there; simulate it under the actuated joints' "
                 "torques (planar_sym.simulate) or mark the joint actuated")
 
+    def _refuse_torque_at_passive_joints(self, tau) -> None:
+        """A joint without a motor takes no torque: the rule ``simulate`` applies (its torques
+        are the actuated joints' only), here for a torque given at every coordinate."""
+        if not self.passive or np.ndim(tau) not in (1, 2) or np.shape(tau)[-1] != self.n:
+            return  # no passive joint, or a shape the compiled call refuses with its message
+        cols = np.atleast_2d(np.asarray(tau, dtype=float))[:, list(self.passive)]
+        hit = np.argwhere(cols != 0.0)
+        if len(hit):
+            k, j = hit[0]
+            raise InputError(
+                f"{self.name}: joint {self.coordinates[self.passive[j]]} has no motor "
+                f"(actuated = false) but tau gives it {cols[k, j]:.6g} at sample {k}: give 0 "
+                "there (a passive joint's torque is zero), or mark the joint actuated")
+
     def forward_dynamics(self, q, qd, tau) -> np.ndarray:
         """qdd = M^-1 (tau - h) of a serial robot, shape (N, n), rad/s^2.
 
@@ -311,6 +325,12 @@ class Robot(LoopFunctions):
         if self.is_closed_chain:
             raise InputError(f"{self.name} is a closed chain: use planar_sym.simulate, which "
                              "keeps the loop constraints")
+        self._refuse_torque_at_passive_joints(tau)
+        return self.tree_forward_dynamics(q, qd, tau)
+
+    def tree_forward_dynamics(self, q, qd, tau) -> np.ndarray:
+        """qdd = M^-1 (tau - h) for a torque at every coordinate of the spanning tree, passive
+        ones included, shape (N, n), rad/s^2: the generated function as it is (validation)."""
         r, s = self._call("forward_dynamics", q=q, qd=qd, tau=tau)
         return self._out(r["qdd"], s)
 

@@ -31,9 +31,14 @@ def description_units(robot: Robot) -> dict[str, str] | None:
 def to_si(robot: Robot, overrides: dict[str, tuple[float, str | None]],
           where: str = "parameters") -> dict[str, float]:
     """SI values of ``{name: (value, unit or None)}``; every problem reported at once."""
+    return _convert(robot, overrides, where)[0]
+
+
+def _convert(robot: Robot, overrides: dict[str, tuple[float, str | None]], where: str):
+    """(SI values, {name: (value as typed, the unit it was read in)}) of ``overrides``."""
     known = {p.name: p for p in robot.parameter_list}
     units = description_units(robot)
-    problems, out = [], {}
+    problems, out, typed = [], {}, {}
     for name, (value, unit) in overrides.items():
         if name not in known:
             problems.append(f"{where}.{name}: not a parameter of {robot.name} (known: "
@@ -49,20 +54,18 @@ def to_si(robot: Robot, overrides: dict[str, tuple[float, str | None]],
             unit = units.get(quantity, known[name].unit) if quantity else known[name].unit
         try:
             out[name] = value * (factor(quantity, unit) if quantity else 1.0)
+            typed[name] = (value, unit)
         except KeyError as exc:
             problems.append(f"{where}.{name}: {exc.args[0]} for a {quantity} (got {unit!r})")
     if problems:
         raise InputError("; ".join(problems) if len(problems) == 1
                          else "invalid parameters:\n  " + "\n  ".join(problems))
-    return out
+    return out, typed
 
 
 def with_overrides(robot: Robot, overrides: dict[str, tuple[float, str | None]],
                    where: str) -> Robot:
     """``robot.with_parameters`` of the SI values of ``overrides`` (``to_si``), a value the
     physical rules refuse named by ``where`` (the file and table it came from)."""
-    values = to_si(robot, overrides, where)
-    try:
-        return robot.with_parameters(**values)
-    except InputError as exc:
-        raise InputError(f"{where}: {exc}") from None
+    values, typed = _convert(robot, overrides, where)
+    return robot.with_values(robot.parameters.replace(where, typed=typed, **values))

@@ -22,7 +22,7 @@ import numpy as np
 from ..dynamics.along import inverse_along
 from ..dynamics.inverse import split_along
 from ..dynamics.reactions import JointLoads
-from ..errors import InputError
+from ..errors import InputError, LibraryError
 from ..model.locate import load
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
@@ -47,7 +47,12 @@ def load_study(study: str | Path | specs.Study) -> specs.Study:
 
 def robot_of(study: specs.Study) -> Robot:
     """The study's robot with its parameter overrides applied (checked, SI)."""
-    robot = load(study.robot)
+    try:
+        robot = load(study.robot)
+    except LibraryError as exc:  # the study file and field that named it
+        if not study.path:
+            raise
+        raise LibraryError(f"{study.path}: robot: {exc}") from None
     if study.parameters:
         where = f"{study.path}: parameters" if study.path else "parameters"
         robot = with_overrides(robot, study.parameters, where)

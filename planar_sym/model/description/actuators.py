@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import math
 
+from ..units import UNITS
 from .fields import Fields
+from .quantities import ACTUATOR_QUANTITY, QUANTITIES, doubt
 from .types import COULOMB_SMOOTHING, Actuator
 
 #: keys of ``[joints.actuator]`` and what each holds (for messages)
@@ -53,17 +55,23 @@ class Actuators(Fields):
         for key in sorted(set(a) - set(ACTUATOR_KEYS)):
             self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(ACTUATOR_KEYS))})")
         values: dict[str, float] = {}
+        slider = jtype == "prismatic"
         for key, meaning in ACTUATOR_KEYS.items():
             if key == "notes" or key not in a:
                 continue
             v = self._num(a, key, f"{f}.{key}")
             if v is None:
                 continue
-            positive = key not in ("rotor_inertia", "viscous_friction", "coulomb_friction")
-            if (positive and not v > 0) or v < 0:
-                self.err(f"{f}.{key}", f"must be {'> 0' if positive else '>= 0'} (got {v:g}): "
-                                       f"{meaning}")
+            q = QUANTITIES[ACTUATOR_QUANTITY[key][slider]]
+            units = self.data.get("units")
+            unit = units.get("inertia") if key == "rotor_inertia" and isinstance(units, dict) \
+                else None
+            unit = unit if isinstance(unit, str) and unit in UNITS["inertia"] else None
+            if (msg := q.error(v, unit)) is not None:
+                self.err(f"{f}.{key}", f"{msg}: {meaning}")
                 continue
+            if (doubtful := doubt(q, v, unit)) is not None:
+                self.warn(f"{f}.{key}", doubtful)
             values[key] = v
         if "coulomb_smoothing" in values and "coulomb_friction" not in a:
             self.err(f"{f}.coulomb_smoothing", "only with coulomb_friction (it smooths it)")

@@ -14,6 +14,7 @@ import math
 
 from .fields import BODY_KEYS, NAME, snap
 from .plausibility import Plausibility
+from .quantities import inertia_doubt, mass_doubt
 from .types import CLOSURE_TOLERANCE_M, GROUND, GYRATION_LIMIT, Body
 
 
@@ -71,13 +72,13 @@ class Bodies(Plausibility):
                 self.err(f"{f}.name", f"must be an identifier other than 'ground' (got {name!r})")
         length, mass_u, inertia_u = scale.get("length"), scale.get("mass"), scale.get("inertia")
         mass = self._num(raw, "mass", f"{f}.mass")
-        if mass is not None and mass <= 0:
-            self.err(f"{f}.mass", f"must be > 0 (got {mass})")
+        if mass is not None and not self._judge(f"{f}.mass", "mass", mass):
+            mass = None
         mass_at = raw.get("mass_at")
         if mass_at is None:
             izz = self._num(raw, "izz", f"{f}.izz")
-            if izz is not None and izz < 0:
-                self.err(f"{f}.izz", f"must be >= 0 (got {izz})")
+            if izz is not None and not self._judge(f"{f}.izz", "inertia", izz):
+                izz = None
         else:  # a massless link carrying a point mass: cg at the point, no inertia about it
             izz, inertia_u = 0.0, 1.0
             for key in sorted({"izz", "cg", "cg_from"} & set(raw)):
@@ -131,11 +132,14 @@ class Bodies(Plausibility):
         body = Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin,
                     point_mass=mass_at is not None)
         if mass_at is None and not self._cg_plausible(f, body, cg_from, pose):
-            self._plausible(f, body, raw["izz"], self.data["units"].get("inertia"))
+            self._plausible(f, body, (raw["mass"], raw["izz"]), self.data["units"])
         return body
 
-    def _plausible(self, f: str, body: Body, izz_given: float, unit: str) -> None:
-        """A body with extent needs inertia, and not more than its size allows."""
+    def _plausible(self, f: str, body: Body, typed: tuple[float, float], units: dict) -> None:
+        """A body with extent needs inertia, and not more than its size allows; a warning for a
+        mass or inertia its size makes a likely slip (``quantities``), both as ``typed`` in
+        ``units``."""
+        izz_given, unit = typed[1], units["inertia"]
         if body.mass_kg <= 0 or body.izz_kg_m2 < 0:
             return  # reported already
         extent = max(math.dist(body.cg_m, xy) for xy in body.points_m.values())
@@ -152,6 +156,11 @@ class Bodies(Plausibility):
                                  f"of {radius * 1e3:.4g} mm for a body whose points reach "
                                  f"{extent * 1e3:.4g} mm from its centre of gravity (more than "
                                  f"{GYRATION_LIMIT:g} times); a unit or decimal-point slip?")
+        elif not self.span_doubt:  # one mistake, one message: a heavy mass lowers the radius
+            if (msg := mass_doubt(typed[0], units["mass"], extent)) is not None:
+                self.warn(f"{f}.mass", msg)
+            elif (msg := inertia_doubt(izz_given, unit, body.mass_kg, extent)) is not None:
+                self.warn(f"{f}.izz", msg)
 
 
 def to_body(xy, origin, angle: float) -> tuple[float, float]:

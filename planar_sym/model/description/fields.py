@@ -8,7 +8,8 @@ import math
 import re
 from pathlib import Path
 
-from ..units import SI, factor
+from ..units import SI, UNITS, factor
+from .quantities import QUANTITIES, doubt
 from .types import ZERO_SNAP_M
 
 NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
@@ -39,6 +40,20 @@ class Fields:
 
     def warn(self, fld: str, msg: str) -> None:
         self.warnings.append(f"{self.path}: {fld}: {msg}")
+
+    def _judge(self, fld: str, quantity: str, typed: float) -> bool:
+        """The table's rule (``quantities``) on a value typed in its ``[units]`` unit: False
+        after an error; a warning where it is likely a slip."""
+        q = QUANTITIES[quantity]
+        units = self.data.get("units")
+        unit = units.get(q.kind) if isinstance(units, dict) and q.kind else None
+        known = isinstance(unit, str) and unit in UNITS.get(q.kind or "", {})
+        if (msg := q.error(typed, unit if known else q.unit)) is not None:
+            self.err(fld, msg)
+            return False
+        if known and (doubtful := doubt(q, typed, unit)) is not None:
+            self.warn(fld, doubtful)
+        return True
 
     def _str(self, tbl: dict, key: str, fld: str) -> str | None:
         v = tbl.get(key)

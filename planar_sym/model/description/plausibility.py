@@ -45,6 +45,9 @@ class Plausibility(Fields):
     #: the robot's span is an error (a unit slip): the size checks of single bodies (radius of
     #: gyration) say nothing more about the same slip
     length_slip: bool = False
+    #: the span is doubtful (a warning or an error): a body's mass or inertia against its size
+    #: would only repeat the same slip
+    span_doubt: bool = False
     #: an upper bound of the span of the robot's points (m), the yardstick of a single-point
     #: body's cg
     span_m: float = 0.0
@@ -61,7 +64,7 @@ class Plausibility(Fields):
                                for g in groups], pose)[1][0]
         exact = pose == "world"
         if 0.0 < hi[0] < SIZE_MIN_M:
-            self.length_slip = True
+            self.length_slip = self.span_doubt = True
             self.err("units.length", f"the robot spans {'' if exact else 'at most '}"
                                      f"{_m(hi[0])}{_between(hi, exact)}: below "
                                      f"{SIZE_MIN_M * 1e3:g} mm the joints' closure tolerance "
@@ -69,6 +72,7 @@ class Plausibility(Fields):
                                      f"apart; {_other_units(hi[0], unit)}")
         elif lo[0] > SIZE_LARGE_M:
             say = self.err if lo[0] > SIZE_MAX_M else self.warn
+            self.span_doubt = True
             what = ("no planar linkage is a kilometre across" if lo[0] > SIZE_MAX_M else
                     f"a warning above {SIZE_LARGE_M:g} m: only the largest cranes are that big")
             say("units.length", f"the robot spans {'' if exact else 'at least '}{_m(lo[0])}"

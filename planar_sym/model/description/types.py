@@ -19,6 +19,13 @@ CLOSURE_TOLERANCE_M = 1e-5
 #: 0.58 times, mass beyond its points (a housing, a wide link) rarely more than 2. Catches the
 #: seed's 3-RRR "90992 kg*mm^2" (28 times) and kg*mm^2 written where kg*m^2 was meant.
 GYRATION_LIMIT = 3.0
+#: ... and less than this many times is a warning: all the mass within 1% of the body's reach
+#: of its centre of gravity; kg*m^2 typed where kg*mm^2 is read gives 1e-3 times.
+GYRATION_LOW = 0.01
+#: A body heavier than the densest element (osmium, 22 590 kg/m^3) filling the ball its points
+#: reach from its centre of gravity is a warning: grams typed as kg make a 71 g link 71 kg,
+#: three times the 24 kg such a ball of osmium around the seed's link1 would weigh.
+DENSITY_MAX = 22_590.0
 
 #: Largest plausible gravity magnitude (m/s^2), an error beyond it here and in the run-time
 #: parameter check: the Sun's surface gives 274; more is a unit slip such as 9810 (mm/s^2)
