@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import datetime as dt
 import math
+import os
 import re
 import tomllib
 from pathlib import Path
@@ -41,7 +42,7 @@ from planar_sym.model.units import UNITS
 ROBOTS = Path(__file__).resolve().parent.parent / "planar_sym" / "robots"
 BASES = {name: tomllib.loads((ROBOTS / f"{name}.toml").read_text())
          for name in ("serial_2dof", "five_bar_type1")}
-EXAMPLES = 300
+EXAMPLES = int(os.environ.get("PLANAR_SYM_FUZZ_CASES") or 300)  # more for a long run
 
 # -- a minimal TOML writer ----------------------------------------------------------------------
 

@@ -41,7 +41,7 @@ from planar_sym.model.description import ZERO_SNAP_M
 from planar_sym.model.robot import Robot
 
 ROBOT_EXAMPLES = 8
-INPUT_EXAMPLES = 300
+INPUT_EXAMPLES = int(os.environ.get("PLANAR_SYM_FUZZ_CASES") or 300)  # more for a long run
 
 # -- 1. random valid serial robots ------------------------------------------------------------------
 

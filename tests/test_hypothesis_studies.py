@@ -1,6 +1,6 @@
 """Study files fuzzed (issue 25, class 4): the shipped studies of every kind (joint and task
 moves, tracking with a plant, a free swing, closed chains), parsed, mutated at random (a key
-deleted, a value of the wrong type or a hostile number, an unknown key, a table emptied) and
+deleted, a value of the wrong type or a hostile number, a number scaled, an unknown key) and
 written back. Whatever comes in, ``load_study`` and the robot with the study's parameters either
 work or raise a ``PlanarSymError`` naming the file; a study that loads then runs (at 5 samples,
 inverse kinds) to a result or a ``PlanarSymError``; never another exception.
@@ -35,6 +35,18 @@ HOSTILE = [0, -1, 1, 2, 0.0, -0.0, 1e-300, 1e300, math.inf, -math.inf, math.nan,
            -(10 ** 30), 2.5, "", "x", "é", "1 kg", "-1 m", "deg", "rad", "cubic", True, False,
            [], [0.0], [1.0, 2.0], [1.0, 2.0, 3.0], ["a", "b"], [math.nan, 0.0], {}, {"x": 1}]
 
+SCALES = [0, -1, 1e-3, 1e3, 1e6, 0.5, 2, 1.0001]
+
+
+def _at(table: dict, path):
+    for k in path:
+        table = table[k]
+    return table
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
 
 def _leaves(table: dict, path=()):
     """Every key path of ``table`` (tables and values)."""
@@ -52,13 +64,16 @@ def mutated(draw):
         paths = sorted(_leaves(data))
         if not paths:
             break
-        path = draw(st.sampled_from(paths))
-        parent = data
-        for k in path[:-1]:
-            parent = parent[k]
-        action = draw(st.sampled_from(["delete", "replace", "replace", "replace", "unknown"]))
+        numbers = [p for p in paths if _is_number(_at(data, p))]
+        scale = bool(numbers) and draw(st.booleans())  # half the cases keep every type right
+        path = draw(st.sampled_from(numbers if scale else paths))
+        parent = _at(data, path[:-1])
+        value = parent[path[-1]]
+        action = "scale" if scale else draw(st.sampled_from(["delete", "replace", "unknown"]))
         event(action)
-        if action == "delete":
+        if action == "scale":  # the right type, a hostile size: reaches past the file checks
+            parent[path[-1]] = value * draw(st.sampled_from(SCALES))
+        elif action == "delete":
             del parent[path[-1]]
         elif action == "replace":
             parent[path[-1]] = draw(st.sampled_from(HOSTILE))

@@ -204,20 +204,16 @@ def test_animate_bad_requests(tmp_path, monkeypatch, capsys, argv, message):
 
 
 def test_animate_failing_midway_leaves_the_old_file(tmp_path, monkeypatch, capsys):
-    from matplotlib.animation import PillowWriter
+    from planar_sym.outputs import animation
 
     out = tmp_path / "a.gif"
     out.write_bytes(b"previous animation")
-    real, grabbed = PillowWriter.grab_frame, []
 
-    def fails_on_second(self, **kw):
-        grabbed.append(1)
-        if len(grabbed) == 2:
-            Path(self.outfile).write_bytes(b"GIF89a partial")
-            raise PlanarSymError("simulated failure at frame 2")
-        real(self, **kw)
+    def fails_while_writing(path, frames, fps):
+        Path(path).write_bytes(b"GIF89a partial")
+        raise PlanarSymError(f"simulated failure after frame 2 of {len(frames)}")
 
-    monkeypatch.setattr(PillowWriter, "grab_frame", fails_on_second)
+    monkeypatch.setattr(animation, "_write_gif", fails_while_writing)
     assert main(["animate", "serial_2dof_joint_move", "--out", str(out), "--frames", "4"]) == 2
     assert "frame 2" in capsys.readouterr().err
     assert [p.name for p in tmp_path.iterdir()] == ["a.gif"]
