@@ -68,12 +68,11 @@ class Quantity:
             return f"must be finite (got {v!r})"
         if self.signed:
             return None
-        if self.high < INF and ((self.strict and not v > self.low) or not self.low <= v <= self.high):
+        above = v > self.low if self.strict else v >= self.low
+        if self.high < INF and not (above and v <= self.high):
             return f"must be from {self.low:g} to {self.high:g}{_u(unit)} (got {v:.6g})"
-        if (self.strict and not v > self.low) or v < self.low:
+        if not above:
             return f"must be {'>' if self.strict else '>='} {self.low:g}{_u(unit)} (got {v:.6g})"
-        if v > self.high:
-            return f"must be at most {self.high:g}{_u(unit)} (got {v:.6g})"
         return None
 
     def implausible(self, v: float) -> bool:
