@@ -68,3 +68,18 @@ def test_the_gif_holds_every_frame_at_its_size(tmp_path):
         assert im.n_frames == 7 and im.size == (int(5.6 * DPI), int(4.6 * DPI))
         assert im.info["duration"] == 100 and im.info["loop"] == 0
     assert ROOT.is_dir()
+
+
+def test_frames_that_would_not_fit_in_memory_are_refused_before_drawing():
+    """A GIF's frames are held until it is written: 2000 frames at 600 dpi would be 55.64 GB
+    (3360 x 2760 pixels x 3 bytes each); refused with the size, before any work. 70 frames
+    there (1.95 GB) fit."""
+    from planar_sym.errors import InputError
+    from planar_sym.outputs.animation import check_frames
+
+    with pytest.raises(InputError, match=r"--frames 2000 at --dpi 600 would hold 55\.64 GB of "
+                                         r"images in memory \(limit 2 GB\)"):
+        check_frames(2000, 600)
+    check_frames(70, 600)
+    with pytest.raises(InputError, match=r"would hold 2\.003 GB"):
+        check_frames(72, 600)

@@ -1374,6 +1374,17 @@ def cli_absurd_frames(ctx):
          str(ctx.tmp / "a.gif"))
 
 
+@bad(CLI, "`planar-sym animate STUDY --frames 2000 --dpi 600`: frames that would not fit in "
+         "memory", CommandFailed,
+     r"^error: --frames 2000 at --dpi 600 would hold 55\.64 GB of images in memory \(limit 2 "
+     r"GB\): fewer frames or a lower dpi",
+     "error: --frames 2000 at --dpi 600 would hold 55.64 GB of images in memory (limit 2 GB): "
+     "fewer frames or a lower dpi", "tests/test_animation_frames.py")
+def cli_frames_beyond_memory(ctx):
+    _cli(ctx, "animate", "serial_2dof_joint_move", "--frames", "2000", "--dpi", "600", "--out",
+         str(ctx.tmp / "a.gif"))
+
+
 @bad(CLI, "`planar-sym run STUDY --out results.txt` where that is a file", CommandFailed,
      r"^error: --out .*results.txt is a file, not a folder",
      "error: --out results.txt is a file, not a folder", "tests/test_cli_edges.py")

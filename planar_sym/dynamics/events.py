@@ -146,15 +146,15 @@ def coordinate_index(robot, key) -> int:
 
 def output_events(g: np.ndarray, t: np.ndarray) -> list[tuple[int, float]]:
     """Events seen on the output grid (the SUNDIALS route), from the event values ``g`` of shape
-    (N, events) at the output times ``t`` (N,) in s: (event, time in s) of the first sample at
-    which each is no longer positive, its time found by linear interpolation."""
+    (N, events) at the output times ``t`` (N,) in s: (event, time in s) of each one's first
+    crossing from positive to not positive, its time found by linear interpolation. An event
+    already past at the first sample (logged at the start by the engine) counts from when it
+    has recovered, as the compiled route's events do."""
     out = []
     for k in range(g.shape[1]):
-        bad = g[:, k] <= 0
-        if bad.any():
-            j = int(np.argmax(bad))
-            if j == 0:
-                continue
+        down = np.nonzero((g[:-1, k] > 0) & (g[1:, k] <= 0))[0]
+        if len(down):
+            j = int(down[0]) + 1
             frac = g[j - 1, k] / (g[j - 1, k] - g[j, k])
             out.append((k, t[j - 1] + frac * (t[j] - t[j - 1])))
     return out

@@ -16,7 +16,8 @@ from .resolution import check_dpi
 
 #: formats written, and the matplotlib writer of each
 WRITERS = {".gif": "pillow", ".mp4": "ffmpeg"}
-#: frames above this are refused: each frame is a full render (about 30 ms)
+#: frames above this are refused: each frame costs about 30 ms (drawn and encoded) and its
+#: image is held in memory until the file is written (2000 frames at 80 dpi: about 1 GB)
 MAX_FRAMES = 2000
 
 
@@ -40,15 +41,27 @@ def writer_for(path: Path, fps: float):
     return animation.writers[WRITERS[suffix]](fps=fps)
 
 
-def check_frames(frames: int, dpi: int) -> None:
+#: a GIF's frames are held in memory until it is written: refused beyond this, before drawing
+MEMORY_LIMIT_GB = 2.0
+#: the animation's size in inches (frames are this times the dpi in pixels)
+FIGSIZE = (5.6, 4.6)
+
+
+def check_frames(frames: int, dpi: int, figsize: tuple[float, float] = FIGSIZE) -> None:
+    """Refuse a frame count or dpi out of range, or frames that would not fit in memory."""
     if not isinstance(frames, int) or not 2 <= frames <= MAX_FRAMES:
         raise InputError(f"--frames must be an integer from 2 to {MAX_FRAMES} (got {frames})")
     check_dpi(dpi)
+    need = frames * int(figsize[0] * dpi) * int(figsize[1] * dpi) * 3 / 1e9  # RGB bytes
+    if need > MEMORY_LIMIT_GB:
+        raise InputError(f"--frames {frames} at --dpi {dpi:g} would hold {need:.4g} GB of images "
+                         f"in memory (limit {MEMORY_LIMIT_GB:g} GB): fewer frames or a lower "
+                         "dpi")
 
 
 def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, path: Path,
                     title: str, fps: float = 20.0, dpi: int = 80,
-                    figsize: tuple[float, float] = (5.6, 4.6),
+                    figsize: tuple[float, float] = FIGSIZE,
                     q_reference: np.ndarray | None = None) -> Path:
     """Animate ``robot`` through the joint motion ``q`` into ``path``, whole or not at all.
 
@@ -77,7 +90,7 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
 
     path = Path(path)
     writer = writer_for(path, fps)  # before any work: a bad request costs nothing
-    check_frames(len(t), dpi)
+    check_frames(len(t), dpi, figsize)
     fig, update = scene_figure(robot, desc, t, q, title, figsize, q_reference)
     with atomic_files([path]) as (tmp,):
         if path.suffix.lower() == ".gif":
@@ -89,7 +102,7 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
 
 
 def scene_figure(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, title: str,
-                 figsize: tuple[float, float] = (5.6, 4.6), q_reference: np.ndarray | None = None):
+                 figsize: tuple[float, float] = FIGSIZE, q_reference: np.ndarray | None = None):
     """(figure, update): the mechanism at ``q`` (and ``q_reference`` faint behind it), and
     ``update(k)`` that moves it to frame ``k`` and returns the artists it moved."""
     from .drawing import MM, Scene, geometry
