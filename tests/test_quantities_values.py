@@ -44,6 +44,9 @@ def test_plausible_ranges_at_their_edges():
     assert "below the plausible 0.0001 kg" in doubt(Q["mass"], math.nextafter(lo, 0))
     assert "above the plausible 10000 kg" in doubt(Q["mass"], math.nextafter(hi, math.inf))
     assert doubt(Q["gravity"], 0.0) is None  # a horizontal robot
+    assert doubt(Q["gravity"], 0.00981) == (  # no reading makes it plausible
+        "0.00981 m/s^2 (read in m/s^2) is below the plausible 0.1 m/s^2 for a gravity "
+        "magnitude; a unit or decimal-point slip?")
     assert doubt(Q["viscous"], 0.0) is None  # a frictionless joint
     assert doubt(Q["length"], 0.0) is None and doubt(Q["length"], -100.0) is None
     assert "above the plausible 100 m" in doubt(Q["length"], -101.0)  # its magnitude
@@ -67,6 +70,10 @@ def test_far_from_the_robot_s_own_value_at_the_thresholds():
     # just beyond NEAR: no reading explains it, and 3000.1 kg is plausible on its own
     assert doubt(Q["mass"], 3000.1, reference=1.0) is None
     assert doubt(Q["mass"], 999.9, reference=3.0) is None
+    # a reading that lands near, for a value that is not far: the relative rule stays silent
+    # (1 m/s^2 against the robot's 9.81 is 0.1 times; in g it would be 9.81) and 1 m/s^2 is a
+    # plausible gravity
+    assert doubt(Q["gravity"], 1.0, reference=9.81) is None
     assert (FAR, NEAR) == (30.0, 3.0)
 
 
@@ -112,7 +119,7 @@ def test_a_mass_against_osmium_filling_its_reach():
     assert mass_doubt(11000.0, "g", 0.05) is None  # 11 kg, read in g
     assert "(read in g, 12000 kg)" in mass_doubt(12e6, "g", 0.05)
     assert mass_doubt(1e9, "kg", 0.0) is None  # a point: no ball
-    assert "a unit or decimal slip?" in mass_doubt(1e9, "kg", 0.05)  # nothing explains it
+    assert mass_doubt(1e9, "kg", 0.05).endswith("would weigh (11.83 kg); a unit or decimal slip?")
 
 
 def test_an_inertia_against_its_reach():
@@ -122,13 +129,17 @@ def test_an_inertia_against_its_reach():
     msg = inertia_doubt(edge / 4, "kg*m^2", m, reach)
     assert msg.startswith("4.6875e-09 kg*m^2 (read in kg*m^2) gives a radius of gyration of "
                           "0.25 mm, less than 0.01 times the 50 mm its points reach")
-    assert msg.endswith("a unit or decimal slip?")  # every other unit makes it smaller still
+    assert msg.endswith("; a unit or decimal slip?")  # every other unit makes it smaller still
     # typed in kg*m^2 where kg*mm^2 is read: the reading in kg*m^2 brings it inside
     msg = inertia_doubt(1e-4, "kg*mm^2", m, reach)
     assert msg.startswith("0.0001 kg*mm^2 (read in kg*mm^2, 1e-10 kg*m^2) gives a radius of "
                           "gyration of 0.03651 mm")
     assert 'In "kg*m^2" it would be 0.0001 kg*m^2' in msg
     assert "kg*cm^2" not in msg  # 1e-8 kg*m^2: a radius of 0.37 mm, still under 0.5 mm
+    # a light, short body: the kg*m^2 reading (a radius of 100 mm) is beyond 3 times its 20 mm
+    # reach, the kg*cm^2 one (1 mm) inside
+    msg = inertia_doubt(1e-4, "kg*mm^2", 0.01, 0.02)
+    assert 'In "kg*cm^2" it would be 1e-08 kg*m^2' in msg and '"kg*m^2"' not in msg
     assert inertia_doubt(1e-12, "kg*m^2", 0.0, reach) is None  # no mass: nothing to judge
     assert inertia_doubt(0.0, "kg*m^2", m, reach) is None  # zero inertia: the error's case
     assert inertia_doubt(1e-12, "kg*m^2", m, 0.0) is None  # a point mass

@@ -221,7 +221,7 @@ def mass_doubt(typed: float, unit: str, extent: float) -> str | None:
     radius ``extent`` (m, its points' reach from its centre of gravity), or None."""
     q = QUANTITIES["mass"]
     most = DENSITY_MAX * 4.0 / 3.0 * math.pi * extent ** 3
-    m = typed * UNITS["mass"].get(unit, 1.0)
+    m = typed * UNITS["mass"][unit]
     if extent <= 0.0 or m <= most:
         return None
     fits = [(label, a) for label, a in q.alternatives(typed, unit) if a <= most]
@@ -234,7 +234,7 @@ def inertia_doubt(typed: float, unit: str, mass: float, extent: float) -> str | 
     """A warning for an inertia (``typed`` in ``unit``) whose radius of gyration is below
     ``GYRATION_LOW`` times the body's reach ``extent`` (m), given its ``mass`` (kg), or None."""
     q = QUANTITIES["inertia"]
-    izz = typed * UNITS["inertia"].get(unit, 1.0)
+    izz = typed * UNITS["inertia"][unit]
     if extent <= 0.0 or mass <= 0.0 or izz <= 0.0 or math.sqrt(izz / mass) >= GYRATION_LOW * extent:
         return None
     fits = [(label, a) for label, a in q.alternatives(typed, unit)
