@@ -263,3 +263,30 @@ def test_a_torque_at_a_passive_joint_is_refused_on_every_route():
         ps.simulate(robot, [0.0, 0.0], [0.0, 0.0], (0.0, 0.1), torque=[1.0, 0.5])
     qdd = robot.forward_dynamics(q[:2], qd[:2], tau[:2])
     assert np.array_equal(qdd, robot.tree_forward_dynamics(q[:2], qd[:2], tau[:2]))
+
+
+def test_a_study_s_warnings_reach_its_result_and_page(tmp_path):
+    """A slip warned about on stderr is also carried by the study's Result (its metadata, the
+    results page and the notebook), once, so a page read later still says it."""
+    from planar_sym.outputs.html_index import study_section
+    from planar_sym.outputs.notebook import result_html
+
+    def study_with(mass: float) -> str:
+        text = (ROOT / "planar_sym" / "studies" / "serial_2dof_joint_move.toml").read_text()
+        path = tmp_path / f"joint_move_{mass:g}.toml"
+        path.write_text(text.replace('robot = "serial_2dof"', f'robot = "{GEARED}"')
+                        .split("[outputs]")[0] + f"\n[parameters]\nm_link2 = {mass!r}\n")
+        return str(path)
+
+    study = study_with(75.0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = ps.run_study(study)
+    shown = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert len(shown) == 1 and result.warnings == (shown[0],)
+    assert re.search(SLIPS["m_link2"][1], result.metadata()["warnings"])
+    page = study_section(result, tmp_path, embed=False)
+    assert page.count('class="warning"') == 1 and "In &quot;g&quot; it would be 0.075 kg" in page
+    assert "0.075 kg" in result_html(result, picture=False)
+    quiet = ps.run_study(study_with(0.08))
+    assert quiet.warnings == () and quiet.metadata()["warnings"] == ""

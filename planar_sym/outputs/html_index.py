@@ -36,6 +36,7 @@ text-align:left;vertical-align:top}th{background:#f3f3f3}
 .pictures{display:flex;flex-wrap:wrap;gap:12px;align-items:flex-start}
 figure{margin:0;flex:1 1 360px;max-width:460px}figcaption{font-size:0.8em;color:#555}
 img{max-width:100%;height:auto;border:1px solid #eee}
+.warning{color:#8a4b00;background:#fff4e0;padding:2px 6px}
 pre{background:#f7f7f7;padding:0.8em;overflow-x:auto;font-size:0.8em;line-height:1.35}
 .peaks{font-family:ui-monospace,monospace;font-size:0.9em}
 nav a{margin-right:0.6em}
@@ -90,6 +91,7 @@ def study_section(result: Result, folder: Path, embed: bool) -> str:
         if src is not None:
             pictures.append(_picture(src, caption, f"{result.name} {caption}"))
     note = f"<p><small>{_e(result.note)}</small></p>" if result.note else ""
+    note += "".join(f'<p class="warning">warning: {_e(w)}</p>' for w in result.warnings)
     return (f'<section id="study-{_e(result.name)}"><h3>{_e(result.name)}</h3>'
             f"<p>{_e(result.summary)}</p>{table}{note}"
             f'<div class="pictures">{"".join(pictures)}</div></section>')

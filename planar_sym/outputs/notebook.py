@@ -171,6 +171,7 @@ def result_html(result: Result, picture: bool = True) -> str:
         rows.append(("energy E(end) - E(0)", f"{e[-1] - e[0]:.3g} J"))
     if result.note:
         rows.append(("note", result.note))
+    rows += [("warning", w) for w in result.warnings]
     parts = [_table(rows)]
     if picture:
         parts.append(img_tag(png_bytes(figure(result)), "image/png", f"{result.name} plot"))

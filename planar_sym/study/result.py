@@ -59,6 +59,9 @@ class Result:
         Control studies: every coordinate's reference at ``t_s`` (rad; m at a slider).
     events : tuple of Event
         Control studies: what happened along the run (name, time in s, stopped).
+    warnings : tuple of str
+        What the run warned about (a likely unit slip in a parameter, a pose near a singular
+        one): shown on the page and in the notebook, carried in the metadata.
     """
 
     name: str
@@ -76,6 +79,8 @@ class Result:
     reference: np.ndarray | None = None
     #: control studies: what happened along the run (``control.Event``: name, time, stopped)
     events: tuple = ()
+    #: the run's warnings, each a sentence (also shown on stderr as they happened)
+    warnings: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "data", tuple(self.data))
@@ -132,10 +137,10 @@ class Result:
 
     def metadata(self) -> dict[str, str]:
         """What the NPZ and the DataFrame's ``attrs`` carry besides the columns: study, robot,
-        summary, kind, solver, note."""
+        summary, kind, solver, note, and the warnings (one per line; empty if none)."""
         return {"study": self.name, "robot": self.robot, "summary": self.summary,
                 "kind": self.kind, "solver": self.solver, "note": self.note,
-                "writer": "planar-sym"}
+                "warnings": "\n".join(self.warnings), "writer": "planar-sym"}
 
     def to_dataframe(self):
         """The columns as a pandas DataFrame, one per column in order, names with units,

@@ -14,6 +14,7 @@ and the power ``p<k>_w``; for forward dynamics ``energy_j``.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
@@ -76,7 +77,20 @@ def run(study: str | Path | specs.Study, samples: int | None = None) -> Result:
     st = load_study(study)
     if samples is not None and (not isinstance(samples, (int, np.integer)) or samples < 2):
         raise InputError(f"samples must be an integer >= 2 (got {samples})")
-    return run_on(st, robot_of(st), samples)
+    failed = None
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            result = run_on(st, robot_of(st), samples)
+        except BaseException as exc:  # noqa: BLE001 - re-raised below, after the warnings
+            failed = exc
+    for w in caught:  # as they were given, now under the caller's filters
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
+    if failed is not None:
+        raise failed
+    said = tuple(dict.fromkeys(str(w.message) for w in caught
+                               if issubclass(w.category, RuntimeWarning)))
+    return replace(result, warnings=said) if said else result
 
 
 def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
