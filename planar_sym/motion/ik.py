@@ -112,11 +112,14 @@ def inverse_kinematics(robot: Robot, traj: Trajectory, *, solver: str = "auto",
     which = choose_solver(robot, solver, q_start)
     newton.check_square(robot)
     t = np.asarray(traj.t_s, dtype=float).reshape(-1)
+    if not np.all(np.isfinite(t)):
+        k = int(np.argmax(~np.isfinite(t)))
+        raise InputError(f"trajectory: t_s[{k}] is {t[k]}: times must be finite (s)")
     nt = len(robot.task_names)
     x, xd, xdd = (as_samples(k, v, nt, times=t) for k, v in (("x", traj.x), ("xd", traj.xd),
                                                               ("xdd", traj.xdd)))
-    if not (len(x) == len(xd) == len(xdd) == len(t)) or not np.all(np.isfinite(t)):
-        raise InputError(f"trajectory: t_s ({len(t)} finite times) and x, xd, xdd ({len(x)}, "
+    if not len(x) == len(xd) == len(xdd) == len(t):
+        raise InputError(f"trajectory: t_s ({len(t)} times) and x, xd, xdd ({len(x)}, "
                          f"{len(xd)}, {len(xdd)} samples) must match")
     fails = Failures(robot, t, x)
     if which == "seed":
