@@ -104,12 +104,17 @@ class _Loops:
             self.refuse_outside(qa, residual, t, k)
         return q
 
-    def refuse_outside(self, qa, residual: float, t, k: int):
+    def refuse_outside(self, qa, residual: float, t, k: int, closed_far: bool = False):
+        """WorkspaceError: the loops cannot be closed at ``qa`` (sample ``k``); ``closed_far``:
+        Newton closed them only away from where the motion goes on (another solution)."""
         robot = self.robot
+        why = (f"Newton closes them (|Phi| = {residual:.3g} m) only at a pose away from where "
+               "the motion goes on: another solution, not this motion's" if closed_far
+               else f"|Phi| = {residual:.3g} m")
         raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {when(t, k)} "
                              f"for actuated coordinates {np.round(qa, 9).tolist()} "
                              f"({', '.join(robot.coordinate_units[i] for i in self.act)}) "
-                             f"(|Phi| = {residual:.3g} m): outside the workspace")
+                             f"({why}): outside the workspace")
 
     def refuse_singular(self, cond: float, at_sample: bool, t, k: int) -> None:
         """WorkspaceError for a pose whose Phi_p has 1-norm condition number ``cond`` above
@@ -170,6 +175,8 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int) -> _Pose:
                 loops.refuse_singular(new.cond, s + ds >= 1.0, t, k)
             if new.sign == sign:
                 pose, s = new, s + ds
+                if halvings:  # the step grows back once the hard part is passed
+                    ds, halvings = ds * 2, halvings - 1
                 continue
         if halvings >= MAX_HALVINGS:
             break
@@ -185,7 +192,7 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int) -> _Pose:
                              "passive joints pass a singular pose (det Phi_p changes sign): "
                              "the loops would go on in another assembly mode, so the motion "
                              "leaves the workspace of the mode it started in")
-    loops.refuse_outside(qa_to, residual, t, k)
+    loops.refuse_outside(qa_to, residual, t, k, closed_far=residual < NEWTON_TOL_M)
 
 
 def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray, np.ndarray]:
