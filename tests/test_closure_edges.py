@@ -378,7 +378,7 @@ def test_near_a_singular_pose_the_steps_halve_as_it_nears_and_grow_back_after(pa
         closure.solve_passive(par, [[0.04], [0.0]], [0.04, -0.04, 0.04], np.array([0.0, 0.5]))
     cranks = [g[0] for g in guesses[1:]]
     assert cranks[:4] == pytest.approx([0.03, 0.02, 0.01, 0.005], abs=1e-15)
-    assert all(b == pytest.approx(a / 2) for a, b in zip(cranks[3:], cranks[4:]))
+    assert all(b == pytest.approx(a / 2) for a, b in itertools.pairwise(cranks[3:]))
     guesses.clear()
     monkeypatch.setattr(closure, "MAX_HALVINGS", 20)
     q = closure.solve_passive(par, [[4e-6], [0.6]], [4e-6, -4e-6, 4e-6])
