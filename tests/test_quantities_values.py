@@ -74,6 +74,7 @@ def test_far_from_the_robot_s_own_value_at_the_thresholds():
     # (1 m/s^2 against the robot's 9.81 is 0.1 times; in g it would be 9.81) and 1 m/s^2 is a
     # plausible gravity
     assert doubt(Q["gravity"], 1.0, reference=9.81) is None
+    assert doubt(Q["gravity"], 0.5, reference=9.81) is None  # 0.051 times: still not 1 / 30
     assert (FAR, NEAR) == (30.0, 3.0)
 
 
