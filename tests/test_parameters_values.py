@@ -124,3 +124,30 @@ def test_the_column_rules_equal_the_scalar_ones_row_for_row(rpr):
     assert 30 < bad.sum() < 200
     for k in range(400):
         assert bad[k] == bool(P.problems(dict(zip(names, P_[k])), rpr.body_names, units)), k
+
+
+def test_the_column_rules_at_their_edges():
+    """The sweep's rules on hand-made designs: a massless point body, a zero inertia with
+    extent, a radius of gyration exactly at 3 times the reach, gravity exactly at 300, and a
+    robot whose only body has no inertia entry (a point mass) after one that has; no numpy
+    warning from a zero mass (the column rule divides by it)."""
+    import warnings
+
+    names = ["m_a", "izz_a", "px_a_B", "m_p", "izz_p", "g"]
+    bodies = ("a", "p")  # a: a 0.1 m link; p: a point mass (no points beyond its origin)
+    ok = [1.0, 0.003, 0.1, 0.5, 0.0, 9.81]
+
+    def row(**change):
+        return [change.get(n, v) for n, v in zip(names, ok)]
+
+    rows = [ok, row(m_p=0.0), row(izz_a=0.0), row(izz_a=(3 * 0.1) ** 2), row(g=300.0),
+            row(g=math.nextafter(300.0, 400.0)), row(izz_a=1.0)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        bad = P.failing(names, np.array(rows), bodies)
+    assert bad.tolist() == [False, True, True, False, False, True, True]
+    for r, b in zip(rows, bad):
+        assert b == bool(P.problems(dict(zip(names, r)), bodies))
+    # only the second body has both entries: the first's missing inertia skips it, not the rest
+    bad = P.failing(["m_a", "m_p", "izz_p"], np.array([[1.0, 0.0, 0.0]]), bodies)
+    assert bad.tolist() == [True]
