@@ -151,3 +151,52 @@ def test_the_column_rules_at_their_edges():
     # only the second body has both entries: the first's missing inertia skips it, not the rest
     bad = P.failing(["m_a", "m_p", "izz_p"], np.array([[1.0, 0.0, 0.0]]), bodies)
     assert bad.tolist() == [True]
+
+
+def test_every_body_is_checked_whatever_the_one_before_lacks():
+    # a body with no inertia entry (a point mass) before a bad one
+    assert P.problems({"m_a": 1.0, "m_b": -1.0, "izz_b": 0.1}, ("a", "b")) == [
+        "parameter m_b must be > 0 kg (got -1)"]
+    assert P.problems({"m_a": 1.0}, ("a",)) == []  # a mass alone: nothing else to judge
+    # the column rule divides by the mass: a massless point body with inertia, no warning
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        bad = P.failing(["m_p", "izz_p"], np.array([[0.0, 0.1], [1.0, 0.1]]), ("p",))
+    assert bad.tolist() == [True, False]
+
+
+def test_reach_from_points_given_in_any_order_and_by_one_coordinate():
+    bodies = ("a",)
+    # the farther point first, then a nearer one; a point given by its y alone
+    values = {"px_a_B": 0.5, "px_a_C": 0.1, "py_a_D": 0.2}
+    assert P._extent(values, "a", bodies) == pytest.approx(0.5, abs=1e-15)
+    assert P._extent({"py_a_D": 0.2}, "a", bodies) == pytest.approx(0.2, abs=1e-15)
+    cols = {"py_a_D": np.array([0.2]), "cgy_a": np.array([-0.1]), "px_a_B": np.array([0.5]),
+            "px_a_C": np.array([0.1])}
+    reach = max(math.hypot(0.0, 0.2 + 0.1), math.hypot(0.5, 0.1), math.hypot(0.1, 0.1))
+    assert P._extent_columns(cols, "a", bodies, 1) == pytest.approx([reach], abs=1e-15)
+    assert P._extent({k: float(v[0]) for k, v in cols.items()}, "a", bodies) == \
+        pytest.approx(reach, abs=1e-15)
+
+
+def test_doubts_skip_a_point_body_and_quote_what_was_typed():
+    bodies = ("p", "a")  # p: a point mass first
+    own = {"m_p": 0.3, "izz_p": 0.0, "m_a": 0.075, "izz_a": 1e-4, "px_a_B": 0.1, "cgx_a": 0.04}
+    said = P.doubts(["m_p", "m_a"], {**own, "m_a": 75.0}, {}, own, bodies)
+    assert said == ["parameter m_a = 75 kg (read in kg) is more than osmium filling the ball "
+                    "its points reach from its centre of gravity (60 mm) would weigh (20.44 kg); "
+                    'a slip? In "g" it would be 0.075 kg']
+    # an inertia typed in kg*m^2 where kg*mm^2 is read: its gyration and its distance from
+    # the robot's own value both say so; one message, quoting what was typed
+    said = P.doubts(["izz_a"], {**own, "izz_a": 1e-10}, {}, own, bodies,
+                    {"izz_a": (1e-4, "kg*mm^2")})
+    assert len(said) == 1
+    assert said[0].startswith("parameter izz_a = 0.0001 kg*mm^2 (read in kg*mm^2, 1e-10 "
+                              "kg*m^2) gives a radius of gyration")
+    said = P.doubts(["cgy_a"], {**own, "cgy_a": 150.0}, {"cgy_a": "m"}, own, bodies,
+                    {"cgy_a": (150000.0, "mm")})
+    assert said == ["parameter cgy_a = 150000 mm (read in mm, 150 m) is above the plausible "
+                    "100 m for a coordinate of a point or centre of gravity; a unit or "
+                    "decimal-point slip?"]
