@@ -185,9 +185,9 @@ def test_doubts_skip_a_point_body_and_quote_what_was_typed():
     bodies = ("p", "a")  # p: a point mass first
     own = {"m_p": 0.3, "izz_p": 0.0, "m_a": 0.075, "izz_a": 1e-4, "px_a_B": 0.1, "cgx_a": 0.04}
     said = P.doubts(["m_p", "m_a"], {**own, "m_a": 75.0}, {}, own, bodies)
-    assert said == ["parameter m_a = 75 kg (read in kg) is more than osmium filling the ball "
+    assert said == [("parameter m_a = 75 kg (read in kg) is more than osmium filling the ball "
                     "its points reach from its centre of gravity (60 mm) would weigh (20.44 kg); "
-                    'a slip? In "g" it would be 0.075 kg']
+                    'a slip? In "g" it would be 0.075 kg')]
     # an inertia typed in kg*m^2 where kg*mm^2 is read: its gyration and its distance from
     # the robot's own value both say so; one message, quoting what was typed
     said = P.doubts(["izz_a"], {**own, "izz_a": 1e-10}, {}, own, bodies,
@@ -197,6 +197,6 @@ def test_doubts_skip_a_point_body_and_quote_what_was_typed():
                               "kg*m^2) gives a radius of gyration")
     said = P.doubts(["cgy_a"], {**own, "cgy_a": 150.0}, {"cgy_a": "m"}, own, bodies,
                     {"cgy_a": (150000.0, "mm")})
-    assert said == ["parameter cgy_a = 150000 mm (read in mm, 150 m) is above the plausible "
+    assert said == [("parameter cgy_a = 150000 mm (read in mm, 150 m) is above the plausible "
                     "100 m for a coordinate of a point or centre of gravity; a unit or "
-                    "decimal-point slip?"]
+                    "decimal-point slip?")]
