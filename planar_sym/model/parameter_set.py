@@ -9,6 +9,8 @@ rule and one message hold on every route. It reads as a mapping name -> value (S
 
 from __future__ import annotations
 
+import functools
+import warnings
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 
@@ -114,23 +116,30 @@ class Parameters(Mapping):
         """Raise InputError naming every value the description's rules refuse (finite; masses
         > 0; plausible inertias and gravity; the drive train's ratios, rotors and friction),
         after ``where`` (a file and table) or the owner."""
-        found = problems(dict(self.items()), self.bodies, self._units())
-        if found:
-            raise InputError(f"{where or self.owner}: " + "; ".join(found))
+        self._judge((), where)
 
     def warn_doubtful(self, names, where: str = "", typed: dict | None = None) -> None:
         """A RuntimeWarning for each of ``names`` whose value is likely a slip (the table's
         plausibility rules, and far from the derived value where another reading lands near
         it: ``model.parameters.doubts``), after ``where`` or the owner."""
-        import warnings
+        self._warn(self._values(), list(names), where, typed)
 
+    def _judge(self, changed, where: str = "", typed: dict | None = None) -> None:
+        """``check``, then ``warn_doubtful`` of the ``changed`` names, on one dict of values."""
+        values = self._values()
+        found = problems(values, self.bodies, _units(self.entries))
+        if found:
+            raise InputError(f"{where or self.owner}: " + "; ".join(found))
+        if changed:
+            self._warn(values, list(changed), where, typed)
+
+    def _warn(self, values: dict, names: list, where: str, typed: dict | None) -> None:
         derived = {p.name: p.value for p in self.entries}
-        for msg in doubts(list(names), dict(self.items()), self._units(), derived, self.bodies,
-                          typed):
-            warnings.warn(f"{where or self.owner}: {msg}", RuntimeWarning, stacklevel=4)
+        for msg in doubts(names, values, _units(self.entries), derived, self.bodies, typed):
+            warnings.warn(f"{where or self.owner}: {msg}", RuntimeWarning, stacklevel=5)
 
-    def _units(self) -> dict[str, str]:
-        return {p.name: p.unit for p in self.entries}
+    def _values(self) -> dict[str, float]:
+        return dict(zip(self._index, self.vector.tolist()))
 
     def replace(self, where: str = "", typed: dict | None = None, **values: float) -> Parameters:
         """A new Parameters with ``values`` (name -> SI value) changed, checked: an unknown
@@ -153,8 +162,7 @@ class Parameters(Mapping):
                 raise InputError(f"{head}{self.owner}: parameter {name} must be finite (got "
                                  f"{value!r})")
         out = self._sibling(p)
-        out.check(where)
-        out.warn_doubtful(values, where, typed)
+        out._judge(list(values), where, typed)
         return out
 
     def with_vector(self, vector, *, checked: bool = False, warn: bool = True) -> Parameters:
@@ -165,9 +173,9 @@ class Parameters(Mapping):
         judged already, a robot coming back from a pickle)."""
         if not checked:
             out = Parameters(self.entries, vector, bodies=self.bodies, owner=self.owner)
-            if warn:
-                out.warn_doubtful([p.name for p, a, b in zip(self.entries, out.vector,
-                                                             self.vector) if a != b])
+            if warn:  # (the constructor checked the values)
+                out._warn(out._values(), [p.name for p, a, b in zip(
+                    self.entries, out.vector, self.vector) if a != b], "", None)
             return out
         return self._sibling(as_samples("parameters", vector, len(self.entries))[0].copy())
 
@@ -180,3 +188,10 @@ class Parameters(Mapping):
         vector.flags.writeable = False
         out.vector = vector
         return out
+
+
+@functools.lru_cache(maxsize=64)
+def _units(entries: tuple[Parameter, ...]) -> dict[str, str]:
+    """Name -> SI unit of a robot's parameters: the same for every Parameters of one robot
+    (a sweep makes one per design), so made once."""
+    return {p.name: p.unit for p in entries}
