@@ -290,3 +290,14 @@ def test_a_study_s_warnings_reach_its_result_and_page(tmp_path):
     assert "0.075 kg" in result_html(result, picture=False)
     quiet = ps.run_study(study_with(0.08))
     assert quiet.warnings == () and quiet.metadata()["warnings"] == ""
+
+
+def test_a_refusal_quotes_what_was_typed_in_the_description_s_units(tmp_path, capsys):
+    """`--set m_crank=-5` on a four-bar whose masses are in grams: the rule speaks SI (-0.005
+    kg); the refusal also quotes what the student typed, so the two can be matched."""
+    code = main(["move", str(ROOT / "examples" / "four_bar.toml"), "--joint", "--from", "60",
+                 "--by", "90", "--duration", "1", "--set", "m_crank=-5", "--out",
+                 str(tmp_path / "o")])
+    assert code == 2
+    assert capsys.readouterr().err.strip() == (
+        "error: parameters: parameter m_crank must be > 0 kg (got -0.005) (typed -5 g)")

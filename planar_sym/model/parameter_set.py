@@ -129,6 +129,10 @@ class Parameters(Mapping):
         values = self._values()
         found = problems(values, self.bodies, _units(self.entries))
         if found:
+            for name, (v, unit) in (typed or {}).items():  # what was typed, where not SI
+                if unit != _units(self.entries)[name]:
+                    found = [f"{m} (typed {v:g} {unit})" if m.startswith(f"parameter {name} ")
+                             else m for m in found]
             raise InputError(f"{where or self.owner}: " + "; ".join(found))
         if changed:
             self._warn(values, list(changed), where, typed)
