@@ -19,7 +19,7 @@ import sympy as sp
 from planar_sym.model import units as _units
 from planar_sym.model.description import GROUND, Description
 
-from . import ad_dynamics, simd
+from . import ad_dynamics, regressor, simd
 from . import size as sizes
 from .quantities import Generated, choose, functions
 
@@ -39,7 +39,7 @@ HASHED_SOURCES = tuple(sorted(
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix
 OUTPUT_KIND = {"kinetic": "scalar", "potential": "scalar", "cond": "scalar", "M": "matrix",
-               "J": "matrix",
+               "J": "matrix", "Y": "matrix", "Y_lambda": "matrix",
                "phi_q": "matrix", "frames": "matrix", "dqdd_dq": "matrix", "dqdd_dqd": "matrix",
                "accelerations": "matrix", "cg": "matrix", "joint_points": "matrix"}
 
@@ -120,7 +120,7 @@ def _header_comment(desc: Description, file: str, digest: str) -> str:
 #: map, frames, the KKT terms) are called through the exact library only
 LOOPED = ("mass_matrix", "bias", "gravity", "inverse_dynamics", "energy", "forward_dynamics",
           "body_motion", "constraint", "constraint_jacobian", "constraint_bias",
-          "closed_inverse_dynamics")
+          "closed_inverse_dynamics", "regressor", "closed_regressor")
 
 #: what ``--equations`` can ask for: closed forms where they fit, or always, or never
 EQUATIONS = ("auto", "closed", "structure")
@@ -148,6 +148,8 @@ def render(desc: Description, equations: str = "auto") -> dict[str, bytes]:
 
         gens = functions(ad)
         eq = report_structure.render(desc, {g.quantity: (g.operations, g.route) for g in gens})
+    reg = regressor.derive(desc)
+    gens += _regressors(reg)
     cg = ca.CodeGenerator(name, {"with_header": False, "casadi_real": "double",
                                  "casadi_int": "long long int"})
     for g in gens:
@@ -181,6 +183,27 @@ def render(desc: Description, equations: str = "auto") -> dict[str, bytes]:
     files["manifest.json"] = _manifest(desc, gens, digest, files, unit_operations,
                                        "closed form" if closed else "structure")
     return files
+
+
+def _regressors(reg: regressor.Regressor) -> list[Generated]:
+    """Y of the tree's inverse dynamics, and a closed chain's of its actuated torques and
+    cut-joint forces: the columns are the manifest's ``standard_parameters``."""
+    s, name = reg.sym, reg.robot
+
+    def fn(quantity, outs, doc):
+        f = ca.Function(f"{name}_{quantity}", [s.q, s.qd, s.qdd, s.p],
+                        [ca.densify(v) for _, v in outs], ["q", "qd", "qdd", "p"],
+                        [k for k, _ in outs], {"cse": True})
+        return Generated(quantity, f, doc)
+
+    out = [fn("regressor", [("Y", reg.tree)],
+              "regressor Y(q, qd, qdd) of the tree inverse dynamics: M qdd + h = Y pi, pi the "
+              "standard parameters (manifest)")]
+    if reg.closed_tau is not None:
+        out.append(fn("closed_regressor", [("Y", reg.closed_tau), ("Y_lambda", reg.closed_lambda)],
+                      "closed-chain regressors: actuated torques tau = Y pi and cut-joint forces "
+                      "lambda = Y_lambda pi"))
+    return out
 
 
 def _generate(cg: ca.CodeGenerator, name: str) -> str:
@@ -301,6 +324,9 @@ def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict
         "constraints": 2 * len(desc.loop_joints),
         "parameters": [{"name": p.name, "value": p.value, "unit": p.unit, "meaning": p.meaning}
                        for p in desc.parameters()],
+        # the columns of the regressors: identification's standard parameters
+        "standard_parameters": [{"name": c.name, "unit": c.unit, "meaning": c.meaning}
+                                for c in regressor.standard_parameters(desc)],
         "matrix_layout": "column-major (CasADi); per-sample blocks row-major",
         # what equations.txt holds: the expanded closed forms, or past derive/size.py's
         # limit the structure they are computed from (no SymPy closed forms were derived)

@@ -3,7 +3,7 @@ each runtime layer imports only the layers below it. Imports inside functions co
 import is still a dependency.
 
 Layers, lowest first (DESIGN.md): base (errors, files, progress, environment) -> model -> motion ->
-dynamics -> control -> study -> analysis -> outputs -> commands and cli -> the package's public API
+dynamics -> control -> identify -> study -> analysis -> outputs -> commands and cli -> the package's public API
 (``planar_sym/__init__.py``). ``derive/`` (build time) may import only the description stage of
 the model and the base.
 """
@@ -15,8 +15,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-LAYERS = ("base", "model", "motion", "dynamics", "control", "study", "analysis", "outputs", "commands",
-          "api")
+LAYERS = ("base", "model", "motion", "dynamics", "control", "identify", "study", "analysis", "outputs",
+          "commands", "api")
 BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress", "planar_sym.environment"}
 #: what derive/ may take from the runtime
 DERIVE_MAY_IMPORT = {"planar_sym.errors", "planar_sym.progress", "planar_sym.model.units",

@@ -1,0 +1,47 @@
+"""The regressor Y(q, qd, qdd): the torques as a linear map of the standard parameters,
+``tau = Y pi`` (``standard.py``), one compiled call for N samples.
+
+For a tree the rows are every coordinate's ``M qdd + h`` (a passive joint's row is an
+equation too: its torque is zero). For a closed chain they are the actuated torques, pushed
+through ``[S^T Phi_q^T]`` as ``closed_chain_inverse_dynamics`` does, and the cut-joint forces'
+regressor comes with them; a state off the loops or at a singular pose is refused as there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.arrays import as_samples
+from ..model.robot import Robot
+from .standard import columns
+
+
+@dataclass(frozen=True)
+class Regressors:
+    """Y (N, rows, columns): the torque rows (every coordinate of a tree, the actuated ones of
+    a closed chain, in ``rows`` order; N*m, N at a slider, per unit of each column);
+    ``y_lambda`` (N, 2 * loops, columns) the cut-joint forces' of a closed chain, else None."""
+
+    y: np.ndarray
+    rows: tuple[int, ...]
+    y_lambda: np.ndarray | None
+
+
+def regressor(robot: Robot, q, qd, qdd, t=None) -> Regressors:
+    """``Y`` at N states (q rad, qd rad/s, qdd rad/s^2; m, m/s, m/s^2 at a slider), each
+    (N, n) or (n,); ``t`` (N,) in s only names a refused sample.
+
+    ``Y @ standard_parameters(robot).values`` equals the inverse dynamics (to rounding).
+    """
+    columns(robot)  # LibraryError for code generated before the regressors
+    q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
+                                                                   ("qdd", qdd)))
+    args = {"q": q, "qd": qd, "qdd": qdd, "p": robot.p}
+    if not robot.is_closed_chain:
+        y = robot.library.functions["regressor"](len(q), args)["Y"]
+        return Regressors(y, tuple(range(robot.n)), None)
+    robot.closed_chain_inverse_dynamics(q, qd, qdd, t)  # its refusals: off the loops, singular
+    r = robot.library.functions["closed_regressor"](len(q), args)
+    return Regressors(r["Y"], tuple(robot.actuated), r["Y_lambda"])
