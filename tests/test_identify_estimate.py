@@ -92,7 +92,7 @@ def test_noisy_experiment_within_three_standard_deviations(name):
     nominal = ps.load(name)
     truth = _truth(nominal, 3)
     base = base_parameters(nominal)
-    t, q, tau, noise = _measured(nominal, truth, 11)
+    t, q, tau, _ = _measured(nominal, truth, 11)
     ex = experiment(nominal, t, q, tau, cutoff_hz=10.0, name="run 1")
     assert any("low-pass filtered at 10 Hz" in n for n in ex.notes)
     est = identify(nominal, ex, base)

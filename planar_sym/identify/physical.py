@@ -85,7 +85,7 @@ def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
                 fixed.append(i)
         point_mass = f"izz_{body}" not in par
 
-        def cone(x, im=im, ix=ix, iy=iy, io=io):
+        def cone(x, im=im, ix=ix, iy=iy, io=io, point_mass=point_mass):
             m, cx, cy, i_o = x[im] * s[im], x[ix] * s[ix], x[iy] * s[iy], x[io] * s[io]
             return np.array([(m * i_o - cx * cx - cy * cy) / (m_scale * i_scale)
                              - (0.0 if point_mass else FLOOR * FLOOR)])
