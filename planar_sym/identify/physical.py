@@ -87,8 +87,9 @@ def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
 
         def cone(x, im=im, ix=ix, iy=iy, io=io, point_mass=point_mass):
             m, cx, cy, i_o = x[im] * s[im], x[ix] * s[ix], x[iy] * s[iy], x[io] * s[io]
+            # m Izz_cg = m I_o - |m c|^2: zero for a point mass, else at least m FLOOR i_scale
             return np.array([(m * i_o - cx * cx - cy * cy) / (m_scale * i_scale)
-                             - (0.0 if point_mass else FLOOR * FLOOR)])
+                             - (0.0 if point_mass else FLOOR * m / m_scale)])
         cons.append({"type": "eq" if point_mass else "ineq", "fun": cone})
     for i, k in enumerate(kinds):
         if k in ("jm", "fv", "fc"):
