@@ -29,7 +29,9 @@ class Estimate:
     ``values`` (b,) and ``std`` (b,) their standard deviations; ``sigma`` (rows,) each joint's
     torque residual's standard deviation (N*m; N at a slider) after the fit, ``rows`` naming
     the joints; ``condition`` the condition number of the weighted, column-scaled stack;
-    ``samples`` the number of states used; ``notes`` what was done to the data.
+    ``samples`` the number of states used; ``notes`` what was done to the data; ``scale``
+    (b,) the size of each base parameter that alone would give torques of the data's size
+    (|tau| / |its column|), in its unit.
     """
 
     base: BaseParameters
@@ -40,6 +42,7 @@ class Estimate:
     condition: float
     samples: int
     notes: tuple[str, ...]
+    scale: np.ndarray
 
     @property
     def relative_std(self) -> np.ndarray:
@@ -122,7 +125,7 @@ def identify(robot: Robot, experiments, base: BaseParameters | None = None,
     notes = tuple(dict.fromkeys(n for ex in experiments for n in ex.notes))
     return Estimate(base, beta, np.sqrt(np.diag(cov)), sigma,
                     tuple(robot.coordinates[c] for c in coords), condition,
-                    sum(len(ex) for ex in experiments), notes)
+                    sum(len(ex) for ex in experiments), notes, np.linalg.norm(tau) / scale)
 
 
 def predicted_torques(robot: Robot, estimate: Estimate, ex: Experiment) -> np.ndarray:

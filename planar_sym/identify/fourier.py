@@ -28,11 +28,12 @@ class FourierMotion:
 
     def __call__(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(q, qd, qdd), each (N, joints), at times ``t`` (N,) in s."""
-        t = np.asarray(t, dtype=float)
-        w = 2 * np.pi / self.period_s
-        harmonics = np.arange(1, self.a.shape[1] + 1)
-        wl = w * harmonics  # (L,)
-        s, c = np.sin(np.outer(t, wl)), np.cos(np.outer(t, wl))  # (N, L)
+        return self.at(basis(t, self.period_s, self.a.shape[1]))
+
+    def at(self, base: tuple[np.ndarray, np.ndarray, np.ndarray]):
+        """(q, qd, qdd) from ``basis(t, period_s, harmonics)``: the sines and cosines computed
+        once for many coefficient sets (an optimiser's)."""
+        s, c, wl = base
         q = self.q0 + s @ (self.a / wl).T - c @ (self.b / wl).T
         qd = c @ self.a.T + s @ self.b.T
         qdd = -s @ (self.a * wl).T + c @ (self.b * wl).T
@@ -47,3 +48,10 @@ class FourierMotion:
         a, b = np.split(np.asarray(x, dtype=float), 2)
         return FourierMotion(self.q0, a.reshape(self.a.shape), b.reshape(self.b.shape),
                              self.period_s)
+
+
+def basis(t, period_s: float, harmonics: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """sin(w l t), cos(w l t), each (N, harmonics), and w l (harmonics,) in rad/s."""
+    t = np.asarray(t, dtype=float)
+    wl = 2 * np.pi / period_s * np.arange(1, harmonics + 1)
+    return np.sin(np.outer(t, wl)), np.cos(np.outer(t, wl)), wl

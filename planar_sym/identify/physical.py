@@ -35,6 +35,8 @@ LAMBDA = 1e-6
 #: the smallest mass and inertia about the centre of gravity accepted, relative to the
 #: description's largest of each
 FLOOR = 1e-6
+#: the smallest standard deviation the fit counts with, relative (see physical_parameters)
+STD_FLOOR = 1e-9
 
 
 @dataclass(frozen=True)
@@ -49,68 +51,83 @@ class PhysicalFit:
 
 
 def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
-    """The consistent standard parameters nearest ``estimate`` (see the module docstring)."""
+    """The consistent standard parameters nearest ``estimate`` (see the module docstring).
+
+    Solved in variables that make both terms well scaled, whatever the data's accuracy: the
+    base parameters in standard deviations from the estimate, ``beta = beta^ + sigma y``, and
+    the standard parameters the base ones do not keep, over their sizes, ``pi_d = s z``; the
+    kept ones follow, ``pi_k = beta - K pi_d``. The objective is then ``|y|^2`` plus the pull.
+    """
     from scipy.optimize import minimize
 
     std0 = standard_parameters(robot)
-    names = std0.names
-    base = estimate.base
+    names, base = std0.names, estimate.base
     kinds = [n.split("_", 1)[0] for n in names]
-    owners = [n.split("_", 1)[1] for n in names]
     par = robot.parameters
     m_scale = max((abs(v) for v, k in zip(std0.values, kinds) if k == "m"), default=1.0)
     i_scale = max((abs(v) for v, k in zip(std0.values, kinds) if k == "izo"), default=1.0)
-    s = np.array([max(abs(v), {"m": m_scale, "izo": i_scale}.get(k, 1e-3) * 1e-2)
-                  for v, k in zip(std0.values, kinds)])
-    b = base.regrouping
-    cov_inv = np.linalg.inv(np.diag(estimate.std ** 2))
+    size = np.array([max(abs(v), {"m": m_scale, "izo": i_scale}.get(k, 1e-3) * 1e-2)
+                     for v, k in zip(std0.values, kinds)])
+    kept = list(base.kept)
+    dropped = [j for j in range(len(names)) if j not in kept]
+    k_mat = base.regrouping[:, dropped]
+    # exact data give standard deviations at rounding: the fit is asked to match within
+    # STD_FLOOR of the size that gives torques of the data's size, no closer
+    sigma = np.sqrt(estimate.std ** 2 + (STD_FLOOR * estimate.scale) ** 2)
+    nb = len(kept)
+    pull = LAMBDA * len(names)
+
+    def standard(x) -> np.ndarray:
+        y, z = x[:nb], x[nb:]
+        pi = np.empty(len(names))
+        pi[dropped] = size[dropped] * z
+        pi[kept] = estimate.values + sigma * y - k_mat @ pi[dropped]
+        return pi
 
     def objective(x):
-        pi = x * s
-        r = b @ pi - estimate.values
-        d = pi - std0.values
-        return float(r @ cov_inv @ r + LAMBDA * len(names) * np.sum((d / s) ** 2))
+        return float(x[:nb] @ x[:nb] + pull * np.sum(((standard(x) - std0.values) / size) ** 2))
 
     def gradient(x):
-        pi = x * s
-        r = b @ pi - estimate.values
-        return (2 * b.T @ cov_inv @ r + 2 * LAMBDA * len(names) * (pi - std0.values) / s**2) * s
+        g = 2 * pull * (standard(x) - std0.values) / size**2  # d/d pi of the pull
+        return np.concatenate([2 * x[:nb] + sigma * g[kept],
+                               size[dropped] * (g[dropped] - k_mat.T @ g[kept])])
 
-    cons, fixed, bounds = [], [], [(None, None)] * len(names)
-    for body in dict.fromkeys(o for o, k in zip(owners, kinds) if k == "m"):
+    ineq, eq = [], []  # functions of pi, each scaled to about 1
+    for body in (o.split("_", 1)[1] for o in names if o.startswith("m_")):
         im, ix, iy, io = (names.index(f"{k}_{body}") for k in ("m", "mcx", "mcy", "izo"))
-        bounds[im] = (FLOOR * m_scale / s[im], None)
+        ineq.append(lambda pi, im=im: pi[im] / m_scale - FLOOR)
         for i, axis in ((ix, "x"), (iy, "y")):
             if f"cg{axis}_{body}" not in par:  # structural: the centre stays on that axis
-                fixed.append(i)
+                eq.append(lambda pi, i=i: pi[i] / size[i])
         point_mass = f"izz_{body}" not in par
 
-        def cone(x, im=im, ix=ix, iy=iy, io=io, point_mass=point_mass):
-            m, cx, cy, i_o = x[im] * s[im], x[ix] * s[ix], x[iy] * s[iy], x[io] * s[io]
-            # m Izz_cg = m I_o - |m c|^2: zero for a point mass, else at least m FLOOR i_scale
-            return np.array([(m * i_o - cx * cx - cy * cy) / (m_scale * i_scale)
-                             - (0.0 if point_mass else FLOOR * m / m_scale)])
-        cons.append({"type": "eq" if point_mass else "ineq", "fun": cone})
-    for i, k in enumerate(kinds):
-        if k in ("jm", "fv", "fc"):
-            bounds[i] = (0.0, None)
-    for i in fixed:
-        bounds[i] = (0.0, 0.0)
-    x0 = np.clip(std0.values / s, [lo if lo is not None else -np.inf for lo, _ in bounds],
-                 [hi if hi is not None else np.inf for _, hi in bounds])
-    f0 = max(objective(x0), 1.0)  # SLSQP's tolerance is absolute: the objective scaled to ~1
-    res = minimize(lambda x: objective(x) / f0, x0, jac=lambda x: gradient(x) / f0,
-                   bounds=bounds, constraints=cons, method="SLSQP",
-                   options={"maxiter": 1000, "ftol": 1e-12})
+        # m Izz_cg = m I_o - |m c|^2: zero for a point mass, else at least m FLOOR i_scale
+        def cone(pi, im=im, ix=ix, iy=iy, io=io, point_mass=point_mass):
+            value = (pi[im] * pi[io] - pi[ix] ** 2 - pi[iy] ** 2) / (m_scale * i_scale)
+            return value - (0.0 if point_mass else FLOOR * pi[im] / m_scale)
+        (eq if point_mass else ineq).append(cone)
+    ineq += [lambda pi, i=i: pi[i] / size[i] for i, k in enumerate(kinds)
+             if k in ("jm", "fv", "fc")]
+    cons = [{"type": "ineq", "fun": lambda x: np.array([f(standard(x)) for f in ineq])}]
+    if eq:
+        cons.append({"type": "eq", "fun": lambda x: np.array([f(standard(x)) for f in eq])})
+    x0 = np.concatenate([np.zeros(nb), std0.values[dropped] / size[dropped]])
+    # far from a consistent estimate the objective is large (hundreds of standard deviations
+    # squared) and SLSQP's absolute tolerance stalls its line search: scaled down and again
+    for scale in (1.0, 1e2, 1e4, 1e6):
+        res = minimize(lambda x, f=scale: objective(x) / f, x0,
+                       jac=lambda x, f=scale: gradient(x) / f, constraints=cons,
+                       method="SLSQP", options={"maxiter": 1000, "ftol": 1e-12})
+        if res.success:
+            break
     if not res.success:
         raise InputError(f"{robot.name}: no physically consistent parameters were found near "
                          f"the estimate ({res.message})")
-    pi = res.x * s
-    active = tuple(names[i] for i, (lo, hi) in enumerate(bounds)
-                   if i not in fixed and lo is not None and abs(res.x[i] - lo) < 1e-9)
-    r = b @ pi - estimate.values
+    pi = standard(res.x)
+    active = tuple(n for n, k, v in zip(names, kinds, pi) if k in ("jm", "fv", "fc")
+                   and abs(v) <= 1e-9 * max(abs(v0) for v0 in std0.values))
     return PhysicalFit(StandardParameters(names, std0.units, std0.meanings, pi),
-                       float(np.sqrt(r @ cov_inv @ r)), active)
+                       float(np.linalg.norm(res.x[:nb])), active)
 
 
 def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robot:

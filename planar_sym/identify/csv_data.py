@@ -1,0 +1,81 @@
+"""An experiment read from a CSV: the table ``planar-sym run`` writes, or any with its columns.
+
+.. code:: text
+
+    t_s, q1_rad, q2_deg, ..., tau1_n_m, tau2_n, ...        positions and torques (required)
+    qd1_rad_s, ..., qdd1_rad_s2, ...                         rates and accelerations (optional)
+
+Positions of every coordinate (a closed chain's actuated ones will do) with ``_rad``, ``_deg``,
+``_m`` or ``_mm``; torques of the actuated coordinates with ``_n_m`` or ``_n``. Where every
+rate and acceleration is given in SI (``_rad_s``, ``_rad_s2``; ``_m_s``, ``_m_s2``) they are
+used as they are; otherwise positions and torques are filtered and differentiated
+(``data.experiment``).
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..model.robot import Robot
+from ..motion.tables import read_table
+from .data import Experiment, experiment
+
+
+def read_experiment(robot: Robot, path: str | Path, cutoff_hz: float | None = None,
+                    filtered: bool = False) -> Experiment:
+    """The experiment in ``path`` (see the module docstring); ``filtered=True`` filters and
+    differentiates even where rates and accelerations are given."""
+    path = Path(path)
+    try:
+        with path.open(newline="", encoding="utf-8-sig") as f:
+            header = [h.strip() for h in next(csv.reader(f), [])]
+    except OSError as exc:
+        raise InputError(f"{path}: cannot be read ({exc.strerror})") from None
+    slide = [u == "m" for u in robot.coordinate_units]
+
+    def names(kind: str, i: int) -> list[str]:
+        return {"q": [f"q{i + 1}_m", f"q{i + 1}_mm"] if slide[i] else
+                [f"q{i + 1}_rad", f"q{i + 1}_deg"],
+                "qd": [f"qd{i + 1}_m_s" if slide[i] else f"qd{i + 1}_rad_s"],
+                "qdd": [f"qdd{i + 1}_m_s2" if slide[i] else f"qdd{i + 1}_rad_s2"],
+                "tau": [f"tau{i + 1}_n" if slide[i] else f"tau{i + 1}_n_m"]}[kind]
+
+    def present(kind: str, coords) -> bool:
+        return all(any(n in header for n in names(kind, i)) for i in coords)
+
+    every, act = range(robot.n), list(robot.actuated)
+    q_coords = every if present("q", every) or not robot.is_closed_chain else act
+    columns = [names("q", i) for i in q_coords] + [names("tau", i) for i in act]
+    t, values = read_table(path, columns)  # every problem of the file at once, SI
+    nq = len(q_coords)
+    q, tau = values[:, :nq], values[:, nq:]
+    if not filtered and present("qd", every) and present("qdd", every):
+        rates = _plain_columns(path, header, [names("qd", i)[0] for i in every]
+                               + [names("qdd", i)[0] for i in every])
+        ex = experiment(robot, t, q, tau, rates[:, :robot.n], rates[:, robot.n:],
+                        name=str(path))
+        return Experiment(ex.t_s, ex.q, ex.qd, ex.qdd, ex.tau, ex.name,
+                          (*ex.notes, "rates and accelerations as given in the file"))
+    return experiment(robot, t, q, tau, cutoff_hz=cutoff_hz, name=str(path))
+
+
+def _plain_columns(path: Path, header: list[str], wanted: list[str]) -> np.ndarray:
+    """Columns already in SI (rates, accelerations), as floats; InputError naming a bad cell."""
+    idx = [header.index(w) for w in wanted]
+    rows = []
+    with path.open(newline="", encoding="utf-8-sig") as f:
+        reader = csv.reader(f)
+        next(reader)
+        for line, row in enumerate(reader, start=2):
+            if not row or not any(c.strip() for c in row):
+                continue
+            try:
+                rows.append([float(row[i]) for i in idx])
+            except (ValueError, IndexError):
+                raise InputError(f"{path}: line {line}: a rate or acceleration is missing or "
+                                 "not a number") from None
+    return np.array(rows)

@@ -1,0 +1,246 @@
+"""An exciting motion: a periodic Fourier series per actuated joint whose stacked base regressor
+is as well conditioned as the robot's limits allow.
+
+.. code:: text
+
+    min  log10 cond(W_b)                  W_b: the base regressor at evenly spaced samples of
+                                          one period, each column scaled to unit norm
+    s.t. q within its range,  |qd| <= speed,  |qdd| <= acceleration   (each actuated joint)
+         |tau| <= the joint's torque limit, |tau / N| <= the motor's, |N qd| <= the motor's
+         speed (where the description gives them; the nominal model's torques)
+         a closed chain on its loops in the drawn assembly mode, cond(Phi_p) <= COND_MAX
+
+SciPy's SLSQP from a few random starts (the problem is not convex), each scaled into the
+limits first; the best is kept. Default limits (a range of +-1 rad about the drawn pose, 2 rad/s,
+10 rad/s^2; a slider's the same per 10 cm) are there to be replaced with the machine's own.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, WorkspaceError
+from ..model.robot import Robot
+from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, from_actuated
+from ..motion.profiles import JointTrajectory
+from .base import BaseParameters, base_parameters
+from .fourier import FourierMotion, basis
+from .regressor import regressor
+
+#: a closed chain's passive-joint Jacobian stays this well conditioned along an excitation
+#: (well below the warning at 1e3: forces there are a few times their size at the drawn pose)
+COND_MAX = 100.0
+#: default limits per actuated joint: revolute (rad, rad/s, rad/s^2), and a slider's (m ...)
+DEFAULT_REVOLUTE = (1.0, 2.0, 10.0)
+DEFAULT_SLIDER = (0.1, 0.2, 1.0)
+#: the kinematic limits are checked on this many times the regressor's samples: between two
+#: points of that grid a position can pass its limit by at most dt^2 / 8 |qdd|max (dt the
+#: grid's step; 5e-5 rad for 100 samples of a 6 s period at 6 rad/s^2)
+DENSE = 8
+#: halvings of a random start that leaves the limits
+SHRINKS = 6
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Per actuated joint (SI): the position range ``low``, ``high``, and the largest speed and
+    acceleration; torques are limited by the description's actuators."""
+
+    low: np.ndarray
+    high: np.ndarray
+    speed: np.ndarray
+    acceleration: np.ndarray
+
+
+@dataclass(frozen=True)
+class Excitation:
+    """The designed motion: ``fourier`` (actuated joints), ``trajectory`` (every coordinate at
+    ``samples`` per period), the stacked base regressor's ``condition`` number (column-scaled)
+    and that of the starting guess it improved on, and the peaks reached (per actuated joint)."""
+
+    fourier: FourierMotion
+    trajectory: JointTrajectory
+    condition: float
+    start_condition: float
+    peak_speed: np.ndarray
+    peak_acceleration: np.ndarray
+    peak_torque: np.ndarray
+
+
+def default_limits(robot: Robot, range_=None, speed=None, acceleration=None) -> Limits:
+    """``Limits`` about the drawn pose, each given value (one per actuated joint, or one for
+    all) replacing the defaults."""
+    act = list(robot.actuated)
+    slide = np.array([robot.coordinate_units[i] == "m" for i in act])
+    defaults = np.where(slide[:, None], DEFAULT_SLIDER, DEFAULT_REVOLUTE)  # (na, 3)
+
+    def given(v, k, name):
+        if v is None:
+            return defaults[:, k]
+        a = np.broadcast_to(np.asarray(v, dtype=float), (len(act),)).copy()
+        if not np.all(np.isfinite(a) & (a > 0)):
+            raise InputError(f"excitation {name} must be positive numbers (one per actuated "
+                             f"joint or one for all), got {v}")
+        return a
+
+    half, sp, acc = given(range_, 0, "range"), given(speed, 1, "speed"), \
+        given(acceleration, 2, "acceleration")
+    q0 = np.asarray(robot.q_drawn, dtype=float)[act]
+    return Limits(q0 - half, q0 + half, sp, acc)
+
+
+def excite(robot: Robot, duration_s: float, harmonics: int = 5, *, limits: Limits | None = None,
+           samples: int = 100, starts: int = 2, seed: int = 0,
+           base: BaseParameters | None = None) -> Excitation:
+    """Design an exciting motion of period ``duration_s`` (s) with ``harmonics`` per joint.
+
+    Raises InputError for bad settings, WorkspaceError when no start stays within the limits
+    (a closed chain's drawn pose near a singular one, or limits too tight to move at all).
+    """
+    from scipy.optimize import minimize
+
+    if not (np.isfinite(duration_s) and duration_s > 0):
+        raise InputError(f"duration must be a positive number of seconds, got {duration_s}")
+    if not (isinstance(harmonics, int) and 1 <= harmonics <= 20):
+        raise InputError(f"harmonics must be an integer from 1 to 20, got {harmonics}")
+    limits = limits or default_limits(robot)
+    base = base or base_parameters(robot)
+    act = list(robot.actuated)
+    na, t = len(act), np.linspace(0.0, duration_s, samples, endpoint=False)
+    at = basis(t, duration_s, harmonics)
+    wl = at[2]
+    # the kinematic limits on a grid finer than the regressor's samples: a peak between two
+    # samples must not pass unseen (the torques and a closed chain's loops: at the samples)
+    dense = basis(np.linspace(0.0, duration_s, DENSE * samples, endpoint=False), duration_s,
+                  harmonics)
+    center = (limits.low + limits.high) / 2
+    drives = robot.drive_train.drives
+    # the actuators' limits at the joint: torque, the motor's torque through the gear, speed
+    tau_max = np.array([min([x for x in (d.torque_limit, d.motor_torque_limit and
+                                          d.motor_torque_limit * d.gear_ratio) if x] or [np.inf])
+                        for d in drives])
+    w_max = np.array([d.motor_speed_limit_rad_s / d.gear_ratio if d.motor_speed_limit_rad_s
+                      else np.inf for d in drives])
+    speed = np.minimum(limits.speed, w_max)
+
+    def motion(x) -> FourierMotion:
+        a, b = np.split(x, 2)
+        a, b = a.reshape(na, harmonics), b.reshape(na, harmonics)
+        # q0: the middle of the range at the mean (the series' mean is q0)
+        return FourierMotion(center, a, b, duration_s)
+
+    last = {}  # a closed chain's last solved poses: the next nearby motion starts from them
+
+    def states(fm: FourierMotion):
+        q, qd, qdd = fm.at(at)
+        if not robot.is_closed_chain:
+            return q, qd, qdd
+        full = _near(robot, q, last.get("q"))
+        if full is None:  # the first, or too far from the last: continuation from the drawn pose
+            full = from_actuated(robot, t, q, qd, qdd, q_guess=robot.q_drawn).q
+        last["q"] = full
+        return (full, *complete_rates(robot, full, qd, qdd))
+
+    def torques(q, qd, qdd):
+        if robot.is_closed_chain:
+            return robot.closed_chain_inverse_dynamics(q, qd, qdd)[0]
+        return robot.tree_inverse_dynamics(q, qd, qdd)[:, act]
+
+    memo: dict[bytes, tuple] = {}
+
+    def evaluate(x):
+        key = x.tobytes()
+        if key not in memo:
+            fm = motion(x)
+            qa, qda, qdda = fm.at(dense)
+            margins = [(limits.high - qa) / (limits.high - limits.low),
+                       (qa - limits.low) / (limits.high - limits.low),
+                       1 - np.abs(qda) / speed, 1 - np.abs(qdda) / limits.acceleration]
+            try:
+                q, qd, qdd = states(fm)
+                tau = torques(q, qd, qdd)
+                margins.append(1 - np.abs(tau) / tau_max)
+                if robot.is_closed_chain:
+                    jac = robot.constraint_jacobian(q)[:, :, list(robot.passive)]
+                    margins.append(1 - np.linalg.cond(jac, 1)[:, None] / COND_MAX)
+                w = regressor(robot, q, qd, qdd).y[..., list(base.kept)].reshape(-1, len(base))
+                w = w / np.maximum(np.linalg.norm(w, axis=0), 1e-300)
+                sv = np.linalg.svd(w, compute_uv=False)
+                cost = float(np.log10(sv[0] / sv[-1])) if sv[-1] > 0 else 20.0
+            except (WorkspaceError, InputError):  # off the loops or singular: infeasible
+                margins.append(np.full((1, 1), -1.0))
+                cost = 20.0
+            # each limit's worst sample per joint: a few constraints, not one per sample
+            # (SLSQP's subproblem grows with their number)
+            memo[key] = (min(cost, 20.0),
+                         np.concatenate([np.min(np.reshape(m, (len(m), -1)), axis=0)
+                                         for m in margins]))
+        return memo[key]
+
+    rng = np.random.default_rng(seed)
+    best, first = None, None
+    for _ in range(starts):
+        x0 = _start(rng, na, harmonics, wl, limits, speed)
+        for _ in range(SHRINKS):  # a start that leaves the limits (or the loops) is shrunk
+            if np.all(evaluate(x0)[1] >= 0):
+                break
+            x0 = x0 / 2
+        c0, _ = evaluate(x0)
+        first = c0 if first is None else min(first, c0)
+        res = minimize(lambda x: evaluate(x)[0], x0, method="SLSQP",
+                       constraints=[{"type": "ineq", "fun": lambda x: evaluate(x)[1]}],
+                       options={"maxiter": 60, "ftol": 1e-4})
+        for x in (res.x, x0):  # the optimum if it is feasible, else the scaled start
+            c, m = evaluate(x)
+            if np.all(m >= -1e-9) and (best is None or c < best[0]):
+                best = (c, x)
+                break
+    if best is None:
+        raise WorkspaceError(f"{robot.name}: no exciting motion found within the limits "
+                             "(ranges, speeds, accelerations, torques and, for a closed chain, "
+                             "the loops away from singular poses): widen them, or lengthen "
+                             "the period")
+    fm = motion(best[1])
+    q, qd, qdd = states(fm)
+    tau = torques(q, qd, qdd)
+    return Excitation(fm, JointTrajectory(t, q, qd, qdd), 10 ** best[0], 10 ** first,
+                      np.abs(qd[:, act]).max(axis=0), np.abs(qdd[:, act]).max(axis=0),
+                      np.abs(tau).max(axis=0))
+
+
+def _start(rng, na, harmonics, wl, limits: Limits, speed) -> np.ndarray:
+    """Random coefficients scaled so that the motion uses about half of each limit."""
+    a, b = rng.normal(size=(2, na, harmonics)) / np.arange(1, harmonics + 1)
+    fm = FourierMotion(np.zeros(na), a, b, 2 * np.pi / wl[0])
+    q, qd, qdd = fm(np.linspace(0, 2 * np.pi / wl[0], 400, endpoint=False))
+    half = (limits.high - limits.low) / 2
+    scale = 0.5 * np.min([half / np.abs(q).max(axis=0), speed / np.abs(qd).max(axis=0),
+                          limits.acceleration / np.abs(qdd).max(axis=0)], axis=0)
+    return np.concatenate([(a * scale[:, None]).ravel(), (b * scale[:, None]).ravel()])
+
+
+def _near(robot: Robot, q_act: np.ndarray, previous: np.ndarray | None) -> np.ndarray | None:
+    """Every sample's pose from the actuated coordinates ``q_act`` (N, actuated), by Newton on
+    all samples at once from ``previous`` (N, n), the poses of a nearby motion; None unless
+    each sample closes its loops in the same assembly mode (sign of det Phi_p) as before."""
+    if previous is None:
+        return None
+    act, pas = list(robot.actuated), list(robot.passive)
+    q = previous.copy()
+    q[:, act] = q_act
+    sign = np.sign(np.linalg.det(robot.constraint_jacobian(previous)[:, :, pas]))
+    for _ in range(NEWTON_MAX_ITER):
+        phi = robot.constraint(q)
+        if np.max(np.abs(phi)) < NEWTON_TOL_M:
+            jac = robot.constraint_jacobian(q)[:, :, pas]
+            return q if np.all(np.sign(np.linalg.det(jac)) == sign) else None
+        jac = robot.constraint_jacobian(q)[:, :, pas]
+        try:
+            q[:, pas] -= np.linalg.solve(jac, phi[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(q)) or np.max(np.abs(q - previous)) > 0.5:
+            return None  # wandered off: let the continuation decide
+    return None

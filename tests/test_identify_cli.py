@@ -1,0 +1,101 @@
+"""The identification workflow from the command line, and the excitation it starts from.
+
+* ``excite``: the designed motion keeps every limit it was given (peaks against the limits,
+  recomputed here from the Fourier series by finite differences), a closed chain stays on its
+  loops away from singular poses, and the condition number it reports is the stacked base
+  regressor's, recomputed here by an SVD.
+* ``excite`` -> ``run`` -> ``identify``: on the study's exact torques the base parameters of
+  the description come back (1e-9), and the identified parameters' file runs in a study.
+"""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+import planar_sym as ps
+from planar_sym.cli import main
+from planar_sym.identify.base import base_parameters
+from planar_sym.identify.excite import COND_MAX, default_limits, excite
+from planar_sym.identify.regressor import regressor
+from planar_sym.identify.standard import standard_parameters
+
+
+def _column_scaled_condition(robot, jt, base):
+    w = regressor(robot, jt.q, jt.qd, jt.qdd).y[..., list(base.kept)].reshape(-1, len(base))
+    sv = np.linalg.svd(w / np.linalg.norm(w, axis=0), compute_uv=False)
+    return sv[0] / sv[-1]
+
+
+@pytest.mark.parametrize("name", ["serial_2dof", "five_bar_type1"])
+def test_excitation_keeps_its_limits(name):
+    robot = ps.load(name)
+    limits = default_limits(robot, range_=0.6, speed=1.5, acceleration=6.0)
+    ex = excite(robot, 6.0, 3, limits=limits, samples=60, starts=1)
+    base = base_parameters(robot)
+    assert ex.condition == pytest.approx(_column_scaled_condition(robot, ex.trajectory, base),
+                                         rel=1e-9)
+    assert ex.condition <= ex.start_condition
+    # the limits on a dense grid of the series (finer than the optimiser's samples)
+    t = np.linspace(0, 6.0, 3001)
+    q, qd, qdd = ex.fourier(t)
+    # between two points of the optimiser's grid (8 per sample) a peak passes a limit by at
+    # most dt^2 / 8 |qdd|max: the documented allowance
+    grid = 6.0 / (8 * 60)
+    slack = grid**2 / 8 * np.abs(qdd).max(axis=0)
+    assert np.all(q <= limits.high + slack) and np.all(q >= limits.low - slack)
+    assert np.all(np.abs(qd) <= limits.speed * 1.02)
+    assert np.all(np.abs(qdd) <= limits.acceleration * 1.02)
+    # qd and qdd are the series' own derivatives (central differences agree)
+    assert np.abs(np.gradient(q, t, axis=0)[1:-1] - qd[1:-1]).max() < 1e-4
+    if robot.is_closed_chain:
+        jt = ex.trajectory
+        assert np.abs(robot.constraint(jt.q)).max() < 1e-12
+        jac = robot.constraint_jacobian(jt.q)[:, :, list(robot.passive)]
+        assert np.linalg.cond(jac, 1).max() <= COND_MAX * 1.02
+
+
+def test_excite_run_identify_round_trip(tmp_path):
+    study = tmp_path / "s2_excite.toml"
+    assert main(["--quiet", "excite", "serial_2dof", "--duration", "6", "--harmonics", "3",
+                 "--out", str(study)]) == 0
+    assert (tmp_path / "s2_excite_motion.csv").is_file()
+    assert main(["--quiet", "run", str(study), "--out", str(tmp_path / "run")]) == 0
+    data = tmp_path / "run" / "s2_excite.csv"
+    out = tmp_path / "id"
+    assert main(["--quiet", "identify", "serial_2dof", "--data", str(data), "--out",
+                 str(out)]) == 0
+    robot = ps.load("serial_2dof")
+    base = base_parameters(robot)
+    true = dict(zip(base.names, base.values()))
+    with (out / "base_parameters.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert [r["name"] for r in rows] == list(base.names)
+    for r in rows:
+        assert float(r["value"]) == pytest.approx(true[r["name"]], abs=1e-9 * max(
+            abs(v) for v in true.values()))
+    for name in ("standard_parameters.csv", "report.txt", "validation.png"):
+        assert (out / name).stat().st_size > 0
+    # the identified parameters, pasted into a study, run the same motion to the same torques
+    text = study.read_text().replace('kind = "inverse"', 'kind = "inverse"\n'
+                                     + (out / "identified_parameters.toml").read_text())
+    again = tmp_path / "again.toml"
+    again.write_text(text.replace('file = "s2_excite_motion.csv"',
+                                  f'file = "{tmp_path / "s2_excite_motion.csv"}"'))
+    assert main(["--quiet", "run", str(again), "--out", str(tmp_path / "run2")]) == 0
+    a = np.genfromtxt(data, delimiter=",", names=True)
+    b = np.genfromtxt(tmp_path / "run2" / "again.csv", delimiter=",", names=True)
+    for col in ("tau1_n_m", "tau2_n_m"):
+        assert np.abs(a[col] - b[col]).max() <= 1e-6 * np.abs(a[col]).max()
+    assert standard_parameters(robot).values.shape == (16,)
+
+
+def test_identify_refuses_a_file_without_torques(tmp_path, capsys):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t_s,q1_rad,q2_rad\n0,0,0\n0.1,0.1,0.1\n")
+    assert main(["identify", "serial_2dof", "--data", str(bad), "--out",
+                 str(tmp_path / "o")]) == 2
+    assert "missing column tau1_n_m" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
