@@ -212,3 +212,22 @@ def test_a_state_off_the_loops_is_refused():
     q[3, 0] += 1e-3
     with pytest.raises(InputError, match="sample 3 .*off the loop constraints"):
         regressor(robot, q, qd, qdd)
+
+
+@pytest.mark.parametrize("name", ["serial_3dof", "five_bar_type1"])
+def test_exact_route_agrees_with_the_loop(name, monkeypatch):
+    """Without the vectorised loop (no compiler, or an older folder) the exact per-sample
+    functions give the same regressors (the loop is compiled with -ffast-math)."""
+    import planar_sym.identify.regressor as reg_module
+
+    robot = ps.load(name)
+    q, qd, qdd = random_states(robot, 30, seed=4)
+    fast = regressor(robot, q, qd, qdd)
+    monkeypatch.setattr(reg_module, "loop_caller", lambda robot, quantity: None)
+    other = robot.with_parameters()  # a new robot: no caller bound yet
+    exact = regressor(other, q, qd, qdd)
+    scale = np.abs(exact.y).max()
+    assert np.abs(fast.y - exact.y).max() <= 1e-12 * scale
+    if robot.is_closed_chain:
+        assert np.abs(fast.y_lambda - exact.y_lambda).max() <= 1e-12 * np.abs(
+            exact.y_lambda).max()

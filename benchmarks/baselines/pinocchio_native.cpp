@@ -15,8 +15,9 @@
 //
 // Prints "key value" lines: nq, nv, n, max_abs_tau, then ns per sample (best and median of
 // REPEATS timed passes over all N samples, std::chrono::steady_clock) for the whole loop
-// (best_ns, median_ns) and for rnea alone (rnea_best_ns, rnea_median_ns), and a checksum of
-// the rnea-alone results (keeps that loop from being optimised away).
+// (best_ns, median_ns), for rnea alone (rnea_best_ns, rnea_median_ns) and for the joint-torque
+// regressor on the same packed inputs (regressor_best_ns, regressor_median_ns), and checksums
+// (keep those loops from being optimised away).
 //
 // Compiled by pinocchio_native.py (flags there too):
 //   c++ -std=c++17 -O3 -march=native -DNDEBUG
@@ -36,6 +37,7 @@
 // parser's Model crashes on destruction).
 
 #include <pinocchio/algorithm/joint-configuration.hpp>
+#include <pinocchio/algorithm/regressor.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/parsers/urdf.hpp>
@@ -207,7 +209,17 @@ int main(int argc, char ** argv)
         Tp.col(s) = pinocchio::rnea(model, data, Qp.col(s), Vp.col(s), Ap.col(s));
     });
 
+    // the joint-torque regressor (nv x 10 njoints per sample): identification's baseline
+    double reg_check = 0.0;
+    std::vector<double> reg = time_passes([&]() {
+      for (long s = 0; s < N; ++s)
+        reg_check += pinocchio::computeJointTorqueRegressor(model, data, Qp.col(s), Vp.col(s),
+                                                            Ap.col(s))(0, 0);
+    });
+
     std::printf("nq %d\nnv %d\nn %d\nmax_abs_tau %.17g\n", model.nq, model.nv, n, max_abs);
+    std::printf("regressor_best_ns %.6g\nregressor_median_ns %.6g\nregressor_check %.17g\n",
+                *std::min_element(reg.begin(), reg.end()), median(reg), reg_check);
     std::printf("best_ns %.6g\nmedian_ns %.6g\n", *std::min_element(full.begin(), full.end()),
                 median(full));
     std::printf("rnea_best_ns %.6g\nrnea_median_ns %.6g\n",

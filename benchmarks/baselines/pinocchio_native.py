@@ -176,7 +176,8 @@ def run(urdf_path, q, qd, qdd, repeats: int = 20, gravity=None, joints=None,
     ``joints`` (URDF joint names, our order) default to what the exported URDF's comment says;
     a URDF without it needs ``gravity`` (``joints`` then defaults to Pinocchio's order).
     Keys: tau (N, n), best_ns, median_ns (the whole loop, per sample), rnea_best_ns,
-    rnea_median_ns (rnea alone on inputs packed beforehand), nq, nv, n.
+    rnea_median_ns (rnea alone on inputs packed beforehand), regressor_best_ns,
+    regressor_median_ns (``computeJointTorqueRegressor`` on the same inputs), nq, nv, n.
     """
     g0, names0 = urdf_facts(urdf_path)
     gravity = g0 if gravity is None else list(gravity)

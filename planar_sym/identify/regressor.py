@@ -9,11 +9,13 @@ regressor comes with them; a state off the loops or at a singular pose is refuse
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..model.arrays import as_samples
+from ..model.fast_paths import loop_caller
 from ..model.robot import Robot
 from .standard import columns
 
@@ -38,10 +40,27 @@ def regressor(robot: Robot, q, qd, qdd, t=None) -> Regressors:
     columns(robot)  # LibraryError for code generated before the regressors
     q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
                                                                    ("qdd", qdd)))
-    args = {"q": q, "qd": qd, "qdd": qdd, "p": robot.p}
     if not robot.is_closed_chain:
-        y = robot.library.functions["regressor"](len(q), args)["Y"]
-        return Regressors(y, tuple(range(robot.n)), None)
+        return Regressors(_call(robot, "regressor", q, qd, qdd)[0], tuple(range(robot.n)), None)
     robot.closed_chain_inverse_dynamics(q, qd, qdd, t)  # its refusals: off the loops, singular
-    r = robot.library.functions["closed_regressor"](len(q), args)
-    return Regressors(r["Y"], tuple(robot.actuated), r["Y_lambda"])
+    y, y_lambda = _call(robot, "closed_regressor", q, qd, qdd)
+    return Regressors(y, tuple(robot.actuated), y_lambda)
+
+
+#: each robot's C-level callers of the regressor loops, made once (``model.fast_paths``)
+_LOOPS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _call(robot: Robot, quantity: str, q, qd, qdd) -> tuple[np.ndarray, ...]:
+    """The generated ``quantity``'s outputs over the samples: its vectorised loop where the
+    library has one (about 1.5 to 10 times faster), else the exact per-sample function."""
+    callers = _LOOPS.setdefault(robot, {})
+    if quantity not in callers:
+        callers[quantity] = loop_caller(robot, quantity)
+    fast = callers[quantity]
+    if fast is not None:
+        out = fast(q, qd, qdd)
+        return out if isinstance(out, tuple) else (out,)
+    spec = robot.library.manifest["functions"][quantity]
+    r = robot.library.functions[quantity](len(q), {"q": q, "qd": qd, "qdd": qdd, "p": robot.p})
+    return tuple(r[name] for name, *_ in spec["outputs"])

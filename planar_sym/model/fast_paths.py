@@ -64,3 +64,20 @@ def _recipes(library, cls, closed: bool, fully_actuated: bool) -> tuple:
             tuple(name for name, _ in ins if name != "p"),
             method.__doc__ if method is not None else spec["doc"])))
     return tuple(out)
+
+
+def loop_caller(robot, quantity: str, doc: str = ""):
+    """A C-level caller of one generated loop (``quantity`` of the manifest) reading ``robot``'s
+    parameter vector, or None where the library has no loop for it (derived before it, or no
+    compiler): what a consumer above the model (identification's regressor) binds once."""
+    fast = fastcall()
+    spec = robot.library.manifest["functions"].get(quantity)
+    if fast is None or robot.library.simd is None or spec is None or "loop" not in spec:
+        return None
+    ins = [(name, size) for name, size in spec["inputs"]]
+    return fast.make(robot.library.loop_address(quantity),
+                     tuple(size for name, size in ins if name != "p"),
+                     [name for name, _ in ins].index("p"),
+                     tuple((rows, cols, _KINDS[kind]) for _, rows, cols, kind in spec["outputs"]),
+                     robot.p, InputError, tuple(name for name, _ in ins if name != "p"),
+                     doc or spec["doc"])
