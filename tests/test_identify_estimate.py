@@ -214,3 +214,20 @@ def test_cart_pole_from_a_free_swing_with_a_point_mass():
     assert abs(izz_cg["cart"]) <= 1e-9 * v["izo_pole"]  # a point mass: none about its cg
     assert izz_cg["pole"] > 1e-3 * v["izo_pole"]  # a solid body (its own mass is regrouped
     # with the cart's, so its inertia about the cg is not identifiable: only positive)
+
+
+def test_qr_route_agrees_with_the_normal_equations(monkeypatch):
+    """The two least-squares routes (refined normal equations below NORMAL_COND, a QR of the
+    stack above it) give the same estimate and standard deviations."""
+    import planar_sym.identify.estimate as est_module
+
+    nominal = ps.load("serial_2dof")
+    t, q, tau, _ = _measured(nominal, _truth(nominal, 3), 11)
+    ex = experiment(nominal, t, q, tau, cutoff_hz=10.0)
+    normal = identify(nominal, ex)
+    monkeypatch.setattr(est_module, "NORMAL_COND", 0.0)
+    qr = identify(nominal, ex)
+    np.testing.assert_allclose(qr.values, normal.values, rtol=1e-9,
+                               atol=1e-12 * np.abs(normal.values).max())
+    np.testing.assert_allclose(qr.std, normal.std, rtol=1e-8)
+    assert qr.condition == pytest.approx(normal.condition, rel=1e-8)

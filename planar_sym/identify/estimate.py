@@ -95,37 +95,76 @@ def identify(robot: Robot, experiments, base: BaseParameters | None = None,
         names = [base.names[k] for k in np.flatnonzero(dead)]
         raise InputError(f"{robot.name}: the motion does not excite {', '.join(names)} (their "
                          "regressor columns are zero): move the joints they belong to")
-    beta = np.linalg.lstsq(w, tau, rcond=None)[0]
-    coords = sorted(set(joint.tolist()))
+    coords, joint_row = np.unique(joint, return_inverse=True)
+    coords = coords.tolist()
     weights = np.ones(len(tau))
-    sigma = np.zeros(len(coords))
-    for k, c in enumerate(coords):
-        rows = joint == c
-        r = tau[rows] - w[rows] @ beta
-        sigma[k] = np.sqrt(r @ r / max(rows.sum() - len(base) / len(coords), 1.0))
+    beta, r_mat = _solve(w, tau, weights)
+    sigma = _sigmas(tau - w @ beta, joint_row, len(coords), len(base))
     if weighted and np.all(sigma > 0):
-        for k, c in enumerate(coords):
-            weights[joint == c] = 1.0 / sigma[k]
-        ww, tw = w * weights[:, None], tau * weights
-        beta = np.linalg.lstsq(ww, tw, rcond=None)[0]
-        for k, c in enumerate(coords):
-            rows = joint == c
-            r = tau[rows] - w[rows] @ beta
-            sigma[k] = np.sqrt(r @ r / max(rows.sum() - len(base) / len(coords), 1.0))
-    ww, tw = w * weights[:, None], tau * weights
-    s2 = float(np.sum((tw - ww @ beta) ** 2) / (len(tau) - len(base)))
-    scaled = ww / np.linalg.norm(ww, axis=0)
-    sv = np.linalg.svd(scaled, compute_uv=False)
+        weights = 1.0 / sigma[joint_row]
+        beta, r_mat = _solve(w, tau, weights)
+        sigma = _sigmas(tau - w @ beta, joint_row, len(coords), len(base))
+    s2 = float(np.sum(((tau - w @ beta) * weights) ** 2) / (len(tau) - len(base)))
+    # the weighted stack's columns have the norms of R's: its scaled condition number is R's
+    sv = np.linalg.svd(r_mat / np.linalg.norm(r_mat, axis=0), compute_uv=False)
     condition = float(sv[0] / sv[-1]) if sv[-1] > 0 else np.inf
     if not condition < 1e10:
         raise InputError(f"{robot.name}: the data determine the base parameters badly "
                          f"(condition number {condition:.3g} of the scaled regressor): use an "
                          "exciting motion (planar-sym excite) or more of it")
-    cov = s2 * np.linalg.inv(ww.T @ ww)
+    r_inv = np.linalg.inv(r_mat)
+    cov = s2 * (r_inv @ r_inv.T)  # s^2 (W~^T W~)^-1 = s^2 R^-1 R^-T
     notes = tuple(dict.fromkeys(n for ex in experiments for n in ex.notes))
     return Estimate(base, beta, np.sqrt(np.diag(cov)), sigma,
                     tuple(robot.coordinates[c] for c in coords), condition,
                     sum(len(ex) for ex in experiments), notes, np.linalg.norm(tau) / scale)
+
+
+#: up to this condition number (column-scaled) the normal equations with one step of
+#: refinement are as accurate as QR (the error grows like cond^2 eps before refinement); above
+#: it the QR route
+NORMAL_COND = 1e6
+#: refinement steps: each divides the normal equations' error by about cond^2 eps
+REFINE = 2
+
+
+def _solve(w: np.ndarray, tau: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray,
+                                                                         np.ndarray]:
+    """Weighted least squares: beta and R, the triangular factor of the weighted stack
+    (W~^T W~ = R^T R).
+
+    The normal equations W~^T W~ beta = W~^T tau~ by Cholesky, refined twice (a pair of
+    products each): a few times faster than a QR of 10^5 rows and as accurate while the scaled
+    condition number stays below NORMAL_COND; past it one QR of ``[W~ | tau~]`` (R and
+    Q^T tau~ without forming Q)."""
+    ww, tw = w * weights[:, None], tau * weights
+    gram = ww.T @ ww
+    d = np.sqrt(np.diag(gram))
+    scaled = gram / np.outer(d, d)
+    try:
+        chol = np.linalg.cholesky(scaled)
+        well = np.linalg.cond(chol) ** 2 < NORMAL_COND ** 2
+    except np.linalg.LinAlgError:
+        well = False
+    if well:
+        def solve(rhs):  # (D^-1 G D^-1) (D x) = D^-1 rhs
+            y = np.linalg.solve(chol, rhs / d)
+            return np.linalg.solve(chol.T, y) / d
+        beta = solve(ww.T @ tw)
+        for _ in range(REFINE):  # refinement: the residual's normal equations
+            beta += solve(ww.T @ (tw - ww @ beta))
+        return beta, chol.T * d  # R = L^T D: W~^T W~ = D L L^T D
+    r_aug = np.linalg.qr(np.column_stack([ww, tw]), mode="r")
+    b = w.shape[1]
+    return np.linalg.solve(r_aug[:b, :b], r_aug[:b, b]), r_aug[:b, :b]
+
+
+def _sigmas(residual: np.ndarray, joint_row: np.ndarray, n_joints: int, b: int) -> np.ndarray:
+    """Each joint's residual standard deviation (its share of the b parameters counted);
+    ``joint_row`` (rows,) numbers each row's joint 0 .. n_joints - 1."""
+    sums = np.bincount(joint_row, residual * residual, minlength=n_joints)
+    counts = np.bincount(joint_row, minlength=n_joints)
+    return np.sqrt(sums / np.maximum(counts - b / n_joints, 1.0))
 
 
 def predicted_torques(robot: Robot, estimate: Estimate, ex: Experiment) -> np.ndarray:
