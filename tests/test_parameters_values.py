@@ -200,3 +200,21 @@ def test_doubts_skip_a_point_body_and_quote_what_was_typed():
     assert said == [("parameter cgy_a = 150000 mm (read in mm, 150 m) is above the plausible "
                     "100 m for a coordinate of a point or centre of gravity; a unit or "
                     "decimal-point slip?")]
+
+
+def test_a_negligible_own_offset_is_no_slip_reference():
+    """The seed's 5-bar draws its links' centres of gravity 5e-8 m off their axes (the table's
+    rounding): an identified 0.1 mm is 2000 times that but no slip, and is not called one; a
+    first-moment offset comparable to the body's reach still is."""
+    import warnings
+
+    import planar_sym as ps
+
+    robot = ps.load("five_bar_type1")
+    assert abs(robot.parameters["cgy_L_Link1"]) < 1e-7
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        robot.with_parameters(cgy_L_Link1=1e-4)
+    own = robot.parameters["cgx_L_Link1"]
+    with pytest.warns(RuntimeWarning, match=r"cgx_L_Link1 = .* times the robot's own"):
+        robot.with_parameters(cgx_L_Link1=own * 1000)

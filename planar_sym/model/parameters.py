@@ -69,9 +69,30 @@ def doubts(names, values: dict[str, float], units: dict[str, str],
         q = of_parameter(name, units.get(name, ""))
         if name not in judged and q is not None and (
                 msg := doubt(q, *typed.get(name, (values[name], q.unit)),
-                             reference=reference.get(name))) is not None:
+                             reference=_reference(name, reference, bodies))) is not None:
             out.append(f"parameter {name} = {msg}")
     return out
+
+
+#: a body-frame coordinate this small against its body's reach is "about zero": no reference
+#: for a slip (the seed's 5-bar has cg offsets of 5e-8 m; a value 2000 times that is no slip)
+NEGLIGIBLE = 1e-3
+
+
+def _reference(name: str, reference: dict[str, float], bodies: tuple[str, ...]
+               ) -> float | None:
+    """The robot's own value of ``name`` as a reference for a slip, or None where it is a
+    body-frame coordinate negligible against that body's own reach (the robot's values, not
+    the changed ones: a slip must not hide itself by stretching the body)."""
+    ref = reference.get(name)
+    if ref is None or not name.startswith(("cgx_", "cgy_", "px_", "py_")):
+        return ref
+    kind, rest = name.split("_", 1)
+    owners = [b for b in bodies if rest == b or rest.startswith(f"{b}_")]
+    if not owners:
+        return ref
+    body = max(owners, key=len)  # the longest name that fits (L_Link1 before L)
+    return None if abs(ref) < NEGLIGIBLE * _extent(reference, body, bodies) else ref
 
 
 def problems(values: dict[str, float], bodies: tuple[str, ...],
