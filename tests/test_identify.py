@@ -218,7 +218,10 @@ def test_a_state_off_the_loops_is_refused():
 def test_exact_route_agrees_with_the_loop(name, monkeypatch):
     """Without the vectorised loop (no compiler, or an older folder) the exact per-sample
     functions give the same regressors (the loop is compiled with -ffast-math)."""
-    import planar_sym.identify.regressor as reg_module
+    import importlib
+
+    # (the package exports the function regressor, which hides the module of that name)
+    reg_module = importlib.import_module("planar_sym.identify.regressor")
 
     robot = ps.load(name)
     q, qd, qdd = random_states(robot, 30, seed=4)

@@ -219,7 +219,9 @@ def test_cart_pole_from_a_free_swing_with_a_point_mass():
 def test_qr_route_agrees_with_the_normal_equations(monkeypatch):
     """The two least-squares routes (refined normal equations below NORMAL_COND, a QR of the
     stack above it) give the same estimate and standard deviations."""
-    import planar_sym.identify.estimate as est_module
+    import importlib
+
+    est_module = importlib.import_module("planar_sym.identify.estimate")
 
     nominal = ps.load("serial_2dof")
     t, q, tau, _ = _measured(nominal, _truth(nominal, 3), 11)

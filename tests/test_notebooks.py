@@ -270,3 +270,23 @@ def test_register_hooks_the_html_formatter():
     robot = ps.load("serial_2dof")
     assert "Robot serial_2dof" in fmt(robot)
     assert fmt(object()) is None  # nothing else is touched
+
+
+ZMAX = re.compile(r"^max \|z\| = (\S+)$", re.MULTILINE)
+VALIDATION = re.compile(r"^(\w+): RMS error identified (\S+) N\*m, drawing (\S+) N\*m \(torque "
+                        r"noise (\S+) N\*m", re.MULTILINE)
+
+
+def test_identification_notebook(kernel_env):
+    """The identification notebook (examples/notebooks/identify_five_bar.py) runs, its
+    estimates lie within 3 standard deviations of its hidden truth, and the identified model
+    predicts a second experiment within the torque noise and far better than the drawing."""
+    nb = execute(jupytext.read(NOTEBOOKS / "identify_five_bar.py"), NOTEBOOKS)
+    text = printed(nb)
+    (zmax,) = ZMAX.findall(text)
+    assert float(zmax) < 3.0, text
+    rows = VALIDATION.findall(text)
+    assert [r[0] for r in rows] == ["A", "E"], text
+    for _, identified, drawing, noise in rows:
+        assert float(identified) < float(noise)
+        assert float(identified) < 0.2 * float(drawing)

@@ -86,7 +86,7 @@ class BaseParameters:
                 mag = f"{abs(c):.{digits}g} " if not np.isclose(abs(c), 1.0, rtol=1e-12) else ""
                 terms.append(("- " if c < 0 else "+ ") + mag + std)
             text = " ".join(terms)
-            out.append(f"{name} = {text[2:] if text.startswith('+ ') else '-' + text[1:]}")
+            out.append(f"{name} = {text[2:] if text.startswith('+ ') else '-' + text[2:]}")
         return out
 
     def regrouped(self) -> dict[str, str]:

@@ -87,7 +87,7 @@ def _reference(name: str, reference: dict[str, float], bodies: tuple[str, ...]
     ref = reference.get(name)
     if ref is None or not name.startswith(("cgx_", "cgy_", "px_", "py_")):
         return ref
-    kind, rest = name.split("_", 1)
+    rest = name.split("_", 1)[1]
     owners = [b for b in bodies if rest == b or rest.startswith(f"{b}_")]
     if not owners:
         return ref
