@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -150,6 +151,32 @@ def run_target(target: str, tests: list[str], jobs: int) -> Outcome:
                    seconds=seconds, commit=_commit())
 
 
+def report_target(target: str, tests: list[str], out: Path) -> Outcome:
+    """The target's outcome re-read from its last run's work folder, with today's
+    equivalence judgments (``--report-only``): a survivor judged since the run is marked
+    without running every mutant again. The run time and commit stay the last run's."""
+    slug = target.replace("/", "_").removesuffix(".py").strip("_")
+    work = WORK / slug
+    if not (work / "mutants").is_dir():
+        raise SystemExit(f"mutation: {target}: no earlier run in {work} to report from")
+    statuses = _statuses(work)
+    equivalents = load_equivalents()
+    names = [n for n, status in sorted(statuses.items()) if status in ("survived", "no tests")]
+    survivors = []
+    for name, shown in _diffs(work, names).items():
+        mutant: Mutant = parse_show(name, statuses[name], shown)
+        mutant.reason = equivalents.get(mutant.key())
+        survivors.append(mutant)
+    seconds, commit = 0.0, _commit()
+    old = out.read_text() if out.is_file() else ""
+    row = re.search(rf"<!-- summary \| `{re.escape(target)}` \|(.*)\| -->", old)
+    if row:  # the run's own time and commit
+        cells = [c.strip() for c in row.group(1).split("|")]
+        seconds, commit = float(cells[-2].split()[0]) * 60, cells[-1]
+    return Outcome(target=target, tests=tests, statuses=statuses, survivors=survivors,
+                   seconds=seconds, commit=commit)
+
+
 def _diffs(work: Path, names: list[str]) -> dict[str, str]:
     """``mutmut show`` of each mutant, in this process with mutmut's own line index of the
     mutated files (one ``mutmut show`` process per mutant took minutes on a folder)."""
@@ -194,6 +221,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=ROOT / "MUTATION.md",
                     help="the report whose section for each target is replaced")
     ap.add_argument("--list", action="store_true", help="list the targets and their test files")
+    ap.add_argument("--report-only", action="store_true",
+                    help="rewrite the targets' sections from their last run with today's "
+                         "equivalence judgments (mutation/equivalent.toml), running nothing")
     args = ap.parse_args(argv)
     if args.list or not args.targets:
         for target, tests in sorted(_targets().items()):
@@ -202,7 +232,9 @@ def main(argv: list[str] | None = None) -> int:
     for target in args.targets:
         if not (ROOT / target).exists():
             ap.error(f"{target}: no such module or folder")
-        outcome = run_target(target, _tests_for(target, args.tests), args.jobs)
+        tests = _tests_for(target, args.tests)
+        outcome = (report_target(target, tests, args.out) if args.report_only
+                   else run_target(target, tests, args.jobs))
         write_section(args.out, outcome)
         print(outcome.summary_line())
     return 0
