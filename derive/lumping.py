@@ -44,6 +44,8 @@ class Lumped:
         content, prim = normalise(c)
         if prim in self.names:
             return content * self.names[prim]
+        if c.atoms(sp.Function):  # a coordinate left inside (a turned slider's sin(q + a)):
+            return c              # not a polynomial in the parameters, so no combination
         mons = _monomials(c)
         cands = [p for p in self.names if _monomials(p) <= mons]
         if not cands:

@@ -60,10 +60,20 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
     refs = _sympy_reference(model, robot.p, states)
     def ref_for(quantity: str, out: str) -> np.ndarray:
         # the fused closed-chain solve returns the actuated torques only
-        return refs["closed.tau"] if (quantity, out) == ("closed_inverse_dynamics", "tau") \
-            else refs[out]
+        if quantity in ("closed_inverse_dynamics", "closed_regressor") and out in ("tau", "Y"):
+            return refs["closed.tau"]
+        return refs[{"Y": "tau", "Y_lambda": "lambda"}.get(out, out)]
 
-    errs = {f"{quantity}.{out}": rel_err(value, ref_for(quantity, out))
+    pi = None
+    if "regressor" in robot.library.functions:  # Y times the robot's standard parameters
+        from ..identify.standard import standard_parameters
+
+        pi = standard_parameters(robot).values
+
+    def compared(out: str, value: np.ndarray) -> np.ndarray:
+        return value @ pi if out in ("Y", "Y_lambda") else value
+
+    errs = {f"{quantity}.{out}": rel_err(compared(out, value), ref_for(quantity, out))
             for quantity, fn in robot.library.functions.items()
             for out, value in fn(samples, {k: (robot.p if k == "p" else states[k])
                                            for k, _ in fn.spec.inputs}).items()}

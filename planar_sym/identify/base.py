@@ -39,7 +39,9 @@ _ORDER = {"izo": 0, "mcx": 1, "mcy": 2, "m": 3, "jm": 4, "fv": 5, "fc": 6}
 class BaseParameters:
     """The base parameters of a robot's torque regressor.
 
-    ``kept`` indexes the standard parameters each base parameter is named after;
+    ``standard``: the robot's StandardParameters, shape (columns,), in SI; ``kept``, shape
+    (base,), indexes
+    the standard parameters each base parameter is named after;
     ``regrouping`` (base, standard) maps the standard parameters to the base ones
     (``beta = regrouping @ pi``; its ``kept`` columns are the identity); ``unidentifiable``
     names the standard parameters with no effect on any torque; ``margin`` is the smallest
@@ -68,10 +70,12 @@ class BaseParameters:
 
     @property
     def units(self) -> tuple[str, ...]:
+        """Each base parameter's unit: its kept standard parameter's."""
         return tuple(self.standard.units[k] for k in self.kept)
 
     def values(self, pi=None) -> np.ndarray:
-        """The base parameters of standard parameters ``pi`` (the robot's own by default)."""
+        """The base parameters, shape (base,), in their units (SI), of standard parameters
+        ``pi``, shape (columns,), in SI (the robot's own by default)."""
         return self.regrouping @ (self.standard.values if pi is None else np.asarray(pi, float))
 
     def expressions(self, digits: int = 6) -> list[str]:
@@ -112,7 +116,8 @@ def base_parameters(robot: Robot, samples: int = 200, seed: int = 0) -> BasePara
 
 
 def from_stacked(w: np.ndarray, std: StandardParameters) -> BaseParameters:
-    """``BaseParameters`` of a stacked regressor ``w`` (rows, standard)."""
+    """``BaseParameters`` of a stacked regressor ``w``, shape (rows, columns) in N*m (N at a
+    slider) per unit of each standard parameter of ``std``."""
     norms = np.linalg.norm(w, axis=0)
     zero = norms <= 1e-12 * max(norms.max(), 1e-300)
     owners = list(dict.fromkeys(n.split("_", 1)[1] for n in std.names))  # bodies, then joints

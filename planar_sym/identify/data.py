@@ -35,7 +35,8 @@ KEEP_RATE = 2.0
 class Experiment:
     """Measurements of one run: ``t_s`` (N,), ``q``, ``qd``, ``qdd`` (N, n) every coordinate
     (rad, rad/s, rad/s^2; m at a slider), ``tau`` (N, actuated) at the actuated coordinates
-    (N*m; N at a slider); ``notes`` say what was done to them."""
+    (N*m; N at a slider); ``name`` where they came from (a file); ``notes`` say what was done
+    to them."""
 
     t_s: np.ndarray
     q: np.ndarray

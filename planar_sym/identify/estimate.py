@@ -24,9 +24,9 @@ from .regressor import regressor
 
 @dataclass(frozen=True)
 class Estimate:
-    """Base parameters estimated from data, in ``base``'s order and units.
+    """Base parameters estimated from data, in ``base``'s order and units (SI).
 
-    ``values`` (b,) and ``std`` (b,) their standard deviations; ``sigma`` (rows,) each joint's
+    ``values`` shape (b,) and ``std`` shape (b,) their standard deviations; ``sigma`` (rows,) each joint's
     torque residual's standard deviation (N*m; N at a slider) after the fit, ``rows`` naming
     the joints; ``condition`` the condition number of the weighted, column-scaled stack;
     ``samples`` the number of states used; ``notes`` what was done to the data; ``scale``
@@ -46,7 +46,7 @@ class Estimate:
 
     @property
     def relative_std(self) -> np.ndarray:
-        """std / |value| (dimensionless); inf where the value is 0."""
+        """std / |value|, shape (b,), dimensionless; inf where the value is 0."""
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(self.values != 0, self.std / np.abs(self.values), np.inf)
 
@@ -58,8 +58,9 @@ class Estimate:
 
 def stacked(robot: Robot, experiments, base: BaseParameters) -> tuple[np.ndarray, np.ndarray,
                                                                        np.ndarray]:
-    """(W (rows, b), tau (rows,), joint (rows,)): every experiment's regressor rows in the
-    kept columns, their torques (0 at a tree's passive joint) and each row's coordinate."""
+    """(W, tau, joint), of shape (rows, b), (rows,), (rows,): every experiment's regressor rows
+    in the kept columns (N*m per unit of each base parameter), their torques in N*m (N at a
+    slider; 0 at a tree's passive joint) and each row's coordinate."""
     ws, taus, joints = [], [], []
     act = list(robot.actuated)
     for ex in experiments:

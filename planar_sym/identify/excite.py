@@ -49,8 +49,9 @@ SHRINKS = 6
 
 @dataclass(frozen=True)
 class Limits:
-    """Per actuated joint (SI): the position range ``low``, ``high``, and the largest speed and
-    acceleration; torques are limited by the description's actuators."""
+    """Per actuated joint, each shape (actuated,) in SI: the position range ``low``, ``high``
+    (rad; m at a slider), the largest ``speed`` (rad/s) and ``acceleration`` (rad/s^2);
+    torques are limited by the description's actuators."""
 
     low: np.ndarray
     high: np.ndarray
@@ -60,9 +61,11 @@ class Limits:
 
 @dataclass(frozen=True)
 class Excitation:
-    """The designed motion: ``fourier`` (actuated joints), ``trajectory`` (every coordinate at
-    ``samples`` per period), the stacked base regressor's ``condition`` number (column-scaled)
-    and that of the starting guess it improved on, and the peaks reached (per actuated joint)."""
+    """The designed motion: ``fourier`` (actuated joints), ``trajectory`` (every coordinate,
+    (N, n) at the samples of one period), the stacked base regressor's ``condition`` number
+    (column-scaled, dimensionless) and ``start_condition``, the best start's it improved on,
+    and the peaks reached, each shape (actuated,): ``peak_speed`` (rad/s; m/s at a slider),
+    ``peak_acceleration`` (rad/s^2) and ``peak_torque`` (N*m; N at a slider)."""
 
     fourier: FourierMotion
     trajectory: JointTrajectory

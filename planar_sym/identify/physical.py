@@ -41,9 +41,10 @@ STD_FLOOR = 1e-9
 
 @dataclass(frozen=True)
 class PhysicalFit:
-    """``standard``: the consistent standard parameters; ``distance``: the fit's Mahalanobis
-    distance sqrt((B pi - beta)^T C^-1 (B pi - beta)) to the estimate (about sqrt(b) or less
-    when the estimate is itself consistent); ``active``: the limits the solution sits on."""
+    """``standard``: the consistent standard parameters, (columns,) in SI; ``distance``: the
+    fit's Mahalanobis distance sqrt((B pi - beta)^T C^-1 (B pi - beta)) to the estimate
+    (dimensionless: about sqrt(b) or less when the estimate is itself consistent);
+    ``active``: the drive parameters the solution holds at zero."""
 
     standard: StandardParameters
     distance: float

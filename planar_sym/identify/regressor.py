@@ -22,9 +22,10 @@ from .standard import columns
 
 @dataclass(frozen=True)
 class Regressors:
-    """Y (N, rows, columns): the torque rows (every coordinate of a tree, the actuated ones of
-    a closed chain, in ``rows`` order; N*m, N at a slider, per unit of each column);
-    ``y_lambda`` (N, 2 * loops, columns) the cut-joint forces' of a closed chain, else None."""
+    """``y`` (N, rows, columns): the torque rows (every coordinate of a tree, the actuated
+    ones of a closed chain, their coordinates in ``rows``; N*m, N at a slider, per unit of
+    each column); ``y_lambda`` (N, 2 * loops, columns) the cut-joint forces' (N) of a closed
+    chain, else None."""
 
     y: np.ndarray
     rows: tuple[int, ...]

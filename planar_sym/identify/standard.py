@@ -28,7 +28,9 @@ from ..model.robot import Robot
 
 @dataclass(frozen=True)
 class StandardParameters:
-    """The standard parameters' names, units, meanings and values (SI), in column order."""
+    """The standard parameters in column order: ``names``, ``units`` and ``meanings``, each a
+    tuple of strings, and ``values``, shape (columns,), in SI (kg, kg*m, kg*m^2, N*m*s/rad,
+    N*m)."""
 
     names: tuple[str, ...]
     units: tuple[str, ...]
@@ -39,9 +41,11 @@ class StandardParameters:
         return len(self.names)
 
     def as_dict(self) -> dict[str, float]:
+        """{name: value (SI)}."""
         return dict(zip(self.names, self.values.tolist()))
 
     def index(self, name: str) -> int:
+        """The column of ``name`` (ValueError for another name)."""
         return self.names.index(name)
 
 
