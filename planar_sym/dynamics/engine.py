@@ -374,6 +374,6 @@ def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps):
             raise SimulationError(f"{robot.name}: integration failed at t = "
                                   f"{t_fail.value:.6g} s: {_DOPRI5_ERRORS.get(rc, rc)}")
         # a closed chain's KKT matrix singular: the loops cannot be closed there (an event)
-        return out, int(stats[3]), (t_fail.value if rc else 0)
+        return out, int(stats[3]), (t_fail.value if rc else None)
 
     return run_segments(plant, setup, y0, t, segment, count)

@@ -20,7 +20,7 @@ def friction(robot: Robot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def run_segments(plant, setup, y0, t, segment, count):
-    """Drive ``segment(times, y) -> (states, rows filled, failure time or 0)`` over the run:
+    """Drive ``segment(times, y) -> (states, rows filled, failure time or None)`` over the run:
     once for a tree; for a closed chain every SEGMENT_S, re-projected onto the loops, with
     the loops' failure (a singular constraint matrix, drift beyond DRIFT_LIMIT_M) an event.
     Returns states, their times, RHS evaluations, the largest |Phi| and the loop event."""
@@ -36,7 +36,7 @@ def run_segments(plant, setup, y0, t, segment, count):
         out, got, failed_at = segment(tt, y)
         rows += list(out[1:got])
         times += list(tt[1:got])
-        if failed_at:
+        if failed_at is not None:  # a failure at t = 0 is one too
             return (np.array(rows), np.array(times), count[0], drift,
                     (failed_at, "singular constraint matrix"))
         if setup.c.stopped:

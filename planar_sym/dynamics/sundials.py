@@ -156,7 +156,7 @@ def integrate(robot: Robot, plant: Robot, setup, ctl: Controller, ref, u, y0: np
                                   f"{tt[-1]:.6g} s: {str(exc).splitlines()[-1]}") from None
         count[0] += int(F.stats().get("nfevals", 0) or 0)
         ys = np.vstack([y, np.array(res["xf"]).T])
-        return ys, len(tt), 0
+        return ys, len(tt), None
 
     return run_segments(plant, setup, y0, t_out, segment, count)
 
