@@ -196,8 +196,9 @@ def test_every_generated_function_is_covered(case):
     covered = {"mass_matrix", "bias", "gravity", "inverse_dynamics", "energy", "task", "frames",
                "body_motion"}  # body_motion: against SymPy in tests/test_reactions.py
     covered |= ({"constraint", "constraint_jacobian", "constraint_bias", "constrained_terms",
-                 "closed_inverse_dynamics"}
+                 "closed_inverse_dynamics", "closed_regressor"}
                 if robot.is_closed_chain else {"forward_dynamics", "forward_dynamics_jacobian"})
+    covered |= {"regressor"}  # below, and in tests/test_identify.py
     assert set(robot.library.manifest["functions"]) == covered
 
 
@@ -211,3 +212,23 @@ def test_parameters_are_live_inputs(case, worst_errors):
     tau = changed.tree_inverse_dynamics(q, qd, qdd)
     _check(worst_errors, f"sympy tau (other p) {name}", tau, ref("tau", p2, q, qd, qdd)[..., 0])
     assert rel_err(robot.tree_inverse_dynamics(q, qd, qdd), tau) > 1e-3
+
+
+def test_regressors_against_sympy(case, worst_errors):
+    """Y (derived from the energies in the standard parameters) times the robot's standard
+    parameters is SymPy's tau = M qdd + h (derived in the description's parameters); a closed
+    chain's Y and Y_lambda, through the same projection, are the fused closed-chain function's
+    torques and cut-joint forces at the same states."""
+    from planar_sym.identify.standard import standard_parameters
+
+    name, ref, robot, q, qd, qdd, _ = case
+    pi = standard_parameters(robot).values
+    args = {"q": q, "qd": qd, "qdd": qdd, "p": robot.p}
+    y = robot.library.functions["regressor"](len(q), args)["Y"]
+    _check(worst_errors, f"sympy regressor {name}", y @ pi, ref("tau", robot.p, q, qd, qdd)[..., 0])
+    if robot.is_closed_chain:
+        closed = robot.library.functions["closed_regressor"](len(q), args)
+        fused = robot.library.functions["closed_inverse_dynamics"](len(q), args)
+        _check(worst_errors, f"closed regressor tau {name}", closed["Y"] @ pi, fused["tau"])
+        _check(worst_errors, f"closed regressor lambda {name}", closed["Y_lambda"] @ pi,
+               fused["lambda"])

@@ -49,7 +49,7 @@ class Glide:
     """segment(tt, y): the closed-form glide q(t) = q(t0) + qd(t0) (t - t0), q0 opened by
     ``rate * (t - t0)`` (``rate`` a number, or a list: one per call), work and loss growing by
     2 (t - t0) and 3 (t - t0). Records each call; ``fail`` = {call index: (rows filled,
-    failure time)}; ``got`` = {call index: rows filled}."""
+    failure time)}, None where it does not fail; ``got`` = {call index: rows filled}."""
 
     def __init__(self, count, rate=0.0, fail=None, got=None, rhs_per_call=7, setup=None,
                  stop_after=None):
@@ -76,7 +76,7 @@ class Glide:
         if i in self.fail:
             got, at = self.fail[i]
             return out, got, at
-        return out, self.got.get(i, len(tt)), 0
+        return out, self.got.get(i, len(tt)), None  # None: no failure
 
 
 def _setup():
@@ -271,7 +271,7 @@ class Prescribed:
         out[:, 0] = phi[:len(tt)]
         out[:, 4] = tt
         self.count[0] += 1
-        return out, len(tt), 0
+        return out, len(tt), None
 
 
 def test_drift_of_exactly_the_limit_is_accepted():
@@ -335,3 +335,14 @@ def test_a_stop_appends_the_stop_state_and_ends_the_run():
     assert ts.tolist() == [0.0, 0.05, 0.1, 0.15, 0.2, 0.125]
     assert ys[-1].tolist() == [1.0, 1.0, 0.0, 0.0, 0.25, 0.5]
     assert ys[-2, 0] - ys[-2, 1] == pytest.approx(1e-4, rel=1e-9)
+
+
+def test_a_failure_at_the_first_time_is_a_failure():
+    """A segment that fails at its start, t = 0 exactly: an event at 0.0, not "no failure"
+    (0.0 was read as false and the run went on over unfilled rows)."""
+    count = [0]
+    seg = Glide(count, fail={0: (1, 0.0)})
+    rows, ts, _, _, event = run_segments(LinePlant(), _setup(), Y0.copy(),
+                                         np.linspace(0, 0.3, 7), seg, count)
+    assert event == (0.0, "singular constraint matrix")
+    assert ts.tolist() == [0.0] and len(rows) == 1
