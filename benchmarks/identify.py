@@ -38,6 +38,10 @@ def _regressor_rows(cfg: Config, sec: Section, table: Table, work: Path) -> None
     from .baselines import pinocchio_native as pn
     from .chains import write_chain
 
+    if not cfg.growth_pinocchio:  # --quick: no native build (about 45 s, more on a loaded CI)
+        sec.notes.append("not run with --quick (no native Pinocchio build): regressor rows "
+                         "not timed")
+        return
     try:
         exe = pn.build()
     except (RuntimeError, OSError, ImportError) as exc:
