@@ -100,3 +100,11 @@ def test_identify_refuses_a_file_without_torques(tmp_path, capsys):
                  str(tmp_path / "o")]) == 2
     assert "missing column tau1_n_m" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_excite_names_a_negative_duration(tmp_path, capsys):
+    """A period typed negative is named as such (it used to be blamed on --rate)."""
+    assert main(["excite", "serial_2dof", "--duration", "-3", "--out",
+                 str(tmp_path / "e.toml")]) == 2
+    assert "--duration must be a positive number of seconds, got -3" in capsys.readouterr().err
+    assert not (tmp_path / "e.toml").exists()

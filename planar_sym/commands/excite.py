@@ -38,6 +38,9 @@ def run(args) -> int:
 
     if args.out.suffix != ".toml":
         raise InputError(f"--out {args.out}: a study file ends in .toml")
+    if not args.duration > 0:  # before the rate: a negative period is the mistake to name
+        raise InputError(f"--duration must be a positive number of seconds, got "
+                         f"{args.duration:g}")
     if not (args.rate > 0 and args.rate * args.duration >= 10):
         raise InputError(f"--rate {args.rate:g} Hz gives fewer than 10 samples over "
                          f"{args.duration:g} s")
