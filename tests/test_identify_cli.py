@@ -91,6 +91,15 @@ def test_excite_run_identify_round_trip(tmp_path):
     for col in ("tau1_n_m", "tau2_n_m"):
         assert np.abs(a[col] - b[col]).max() <= 1e-6 * np.abs(a[col]).max()
     assert standard_parameters(robot).values.shape == (16,)
+    # and the identified robot's description file: the study run on it gives them too
+    on_file = tmp_path / "on_file.toml"
+    on_file.write_text(study.read_text().replace(
+        'robot = "serial_2dof"', f'robot = "{out / "identified_robot.toml"}"'))
+    assert "identified_robot.toml" in on_file.read_text()
+    assert main(["--quiet", "run", str(on_file), "--out", str(tmp_path / "run3")]) == 0
+    c = np.genfromtxt(tmp_path / "run3" / "on_file.csv", delimiter=",", names=True)
+    for col in ("tau1_n_m", "tau2_n_m"):
+        assert np.abs(a[col] - c[col]).max() <= 1e-6 * np.abs(a[col]).max()
 
 
 def test_identify_refuses_a_file_without_torques(tmp_path, capsys):

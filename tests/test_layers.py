@@ -17,7 +17,8 @@ ROOT = Path(__file__).resolve().parent.parent
 
 LAYERS = ("base", "model", "motion", "dynamics", "control", "identify", "study", "analysis", "outputs",
           "commands", "api")
-BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress", "planar_sym.environment"}
+BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress", "planar_sym.environment",
+        "planar_sym.toml_write"}
 #: what derive/ may take from the runtime
 DERIVE_MAY_IMPORT = {"planar_sym.errors", "planar_sym.progress", "planar_sym.model.units",
                      "planar_sym.model.description"}

@@ -15,7 +15,7 @@ from planar_sym.errors import InputError
 from planar_sym.motion.profiles import cubic
 from planar_sym.study import spec
 from planar_sym.study.run import run
-from planar_sym.study.toml import dumps
+from planar_sym.toml_write import dumps
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 

@@ -3,9 +3,10 @@ the robot's base parameters from measured (or simulated) positions and torques, 
 standard deviations, a physically consistent set of standard parameters, and a check of the
 identified model on data it was not fitted to.
 
-Writes DIR/base_parameters.csv, DIR/standard_parameters.csv, DIR/identified_parameters.toml
-(a study's ``[parameters]`` table: paste it into any study to run it on the identified robot),
-DIR/report.txt and DIR/validation.png.
+Writes DIR/base_parameters.csv, DIR/standard_parameters.csv, DIR/identified_robot.toml (the
+robot's description with the identified values: run any study on it),
+DIR/identified_parameters.toml (the same values as a study's ``[parameters]`` table), DIR/report.txt
+and DIR/validation.png.
 """
 
 from __future__ import annotations

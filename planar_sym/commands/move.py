@@ -108,7 +108,7 @@ def run(args) -> int:
     st = spec.parse(table, name)
     if args.save_study is not None:
         from ..files import atomic_files
-        from ..study.toml import dumps
+        from ..toml_write import dumps
 
         with atomic_files([args.save_study]) as (tmp,):
             tmp.write_text(dumps(table))

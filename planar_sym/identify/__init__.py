@@ -11,7 +11,8 @@ The steps, each a function of its own module:
 * ``identify(robot, experiments)``: the base parameters with standard deviations
   (``estimate.py``);
 * ``physical_parameters`` and ``identified_robot``: a physically consistent robot that
-  reproduces them (``physical.py``).
+  reproduces them (``physical.py``), and ``identified_description``: that robot as a
+  description file (``description_file.py``).
 
 ``planar-sym excite`` and ``planar-sym identify`` run them from the command line.
 """
@@ -19,6 +20,7 @@ The steps, each a function of its own module:
 from .base import BaseParameters, base_parameters
 from .csv_data import read_experiment
 from .data import Experiment, experiment
+from .description_file import identified_description
 from .estimate import Estimate, identify, predicted_torques
 from .excite import Excitation, Limits, default_limits, excite
 from .fourier import FourierMotion
@@ -28,6 +30,7 @@ from .standard import StandardParameters, standard_parameters
 
 __all__ = ["BaseParameters", "Estimate", "Excitation", "Experiment", "FourierMotion", "Limits",
            "PhysicalFit", "Regressors", "StandardParameters", "base_parameters",
-           "default_limits", "excite", "experiment", "identified_robot", "identify",
+           "default_limits", "excite", "experiment", "identified_description", "identified_robot",
+           "identify",
            "physical_parameters", "predicted_torques", "read_experiment", "regressor",
            "standard_parameters"]

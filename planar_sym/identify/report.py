@@ -10,6 +10,7 @@ import numpy as np
 from ..files import atomic_files
 from ..model.robot import Robot
 from .data import Experiment
+from .description_file import identified_description
 from .estimate import Estimate, predicted_torques
 from .physical import PhysicalFit
 
@@ -57,11 +58,17 @@ def write_results(robot: Robot, est: Estimate, fit: PhysicalFit, identified: Rob
                  "deviations (Mahalanobis) from the estimate"
                  + (f"; on their limits: {', '.join(fit.active)}" if fit.active else ""))
     lines += [f"note: {n}" for n in est.notes]
-    text = "\n".join(lines)
     files = {"base_parameters.csv": "\n".join(rows) + "\n",
              "standard_parameters.csv": "\n".join(std_rows) + "\n",
-             "identified_parameters.toml": "\n".join(toml) + "\n",
-             "report.txt": text + "\n"}
+             "identified_parameters.toml": "\n".join(toml) + "\n"}
+    if robot.description_file is not None:  # every command runs on it: run identified_robot.toml
+        files["identified_robot.toml"] = identified_description(
+            robot, identified, f"Fit: {est.samples} samples, {len(base)} base parameters.")
+    else:
+        lines.append("note: no identified_robot.toml (the robot was not loaded from a "
+                     "description file); identified_parameters.toml has the values")
+    text = "\n".join(lines)
+    files["report.txt"] = text + "\n"
     targets = [out / k for k in files] + [out / "validation.png"]
     with atomic_files(targets) as temps:
         for tmp, content in zip(temps, files.values()):
