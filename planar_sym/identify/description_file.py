@@ -74,9 +74,10 @@ def identified_description(robot: Robot, identified: Robot, note: str = "") -> s
                                  ("coulomb_friction", f"fc_{name}", 1.0)):
             if param in par and act is not None and key in act:
                 act[key] = par[param] / unit
-    head = [f"# {robot.name} as identified by planar-sym identify, from {path.name}: masses, "
-            "centres of gravity,", "# inertias, rotor inertias and friction are the "
-            f"physically consistent identified values, in [units]. {note}".rstrip()]
+    head = [(f"# {robot.name} as identified by planar-sym identify, from {path.name}: masses, "
+             "centres of gravity,"),
+            ("# inertias, rotor inertias and friction are the physically consistent identified "
+             f"values, in [units]. {note}").rstrip()]
     return "\n".join(head) + "\n" + dumps(raw)
 
 
