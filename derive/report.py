@@ -3,7 +3,7 @@
 Sections: notation; T, V, L; the Euler-Lagrange equations row by row; M(q) in physical
 parameters, the lumped parameters and M in them; C(q, qd) from the Christoffel symbols and
 C qd; g(q); for closed chains Phi, Phi_q, gamma and the multiplier equation with its sign
-convention; the symbol table; the properties checked at derive time. ``report_format`` prints
+convention; the base parameters of identification (``report_base``); the symbol table; the properties checked at derive time. ``report_format`` prints
 it as text, LaTeX or Markdown.
 """
 
@@ -20,6 +20,7 @@ from . import properties
 from .lumping import Lumped, lump
 from .model import Model
 from .notation import Notation, Prod, Sum
+from .report_base import sections as base_sections
 from .report_closed import sections as closed_sections
 from .report_parts import Eq, Report, Rich, Section, m
 
@@ -58,6 +59,7 @@ def build(model: Model) -> Report:
         sec.append(_friction(d, nt))
     if model.constraints.count:
         sec += closed_sections(model, nt)
+    sec += base_sections(model, nt, lp, d.grav)
     return Report(model.desc.name, model.desc.title, _preamble(model, nt), sec, _table(model),
                   _properties(model), nt)
 

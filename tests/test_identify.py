@@ -256,3 +256,28 @@ def test_the_reports_lumped_parameters_are_base_combinations():
     assert beta == pytest.approx(a1 * b["mcx_link2"], rel=1e-14)
     assert g1 == pytest.approx(b["mcx_link1R"], rel=1e-14)
     assert g2 == pytest.approx(b["mcx_link2"], rel=1e-14)
+
+
+def test_batch_route_checks_inputs_as_the_general_route():
+    """A tree's (N, n) float64 batch goes straight to the compiled caller (no Python checks):
+    it refuses what the general route refuses, naming the same sample, and gives the same Y as
+    a list input (which goes through as_samples)."""
+    robot = ps.load("serial_2dof")
+    q, qd, qdd = random_states(robot, 6, seed=2)
+    batch = regressor(robot, q, qd, qdd).y
+    listed = regressor(robot, q.tolist(), qd.tolist(), qdd.tolist()).y
+    assert batch.shape == listed.shape == (6, 2, 16)
+    assert np.array_equal(batch, listed)
+    one = regressor(robot, q[4], qd[4], qdd[4]).y  # one sample, (n,): still (1, rows, cols)
+    assert one.shape == (1, 2, 16) and np.array_equal(one[0], batch[4])
+    for bad in (np.nan, np.inf):
+        qd_bad = qd.copy()
+        qd_bad[4, 1] = bad
+        for arrays in ((q, qd_bad, qdd), (q.tolist(), qd_bad.tolist(), qdd.tolist())):
+            with pytest.raises(InputError, match=r"qd\[4, 1\] is .* at sample 4: inputs must "
+                                                 "be finite"):
+                regressor(robot, *arrays)
+    with pytest.raises(InputError, match="same number of samples"):
+        regressor(robot, q, qd[:5], qdd)
+    with pytest.raises(InputError, match=r"qdd must have shape \(N, 2\)"):
+        regressor(robot, q, qd, np.zeros((6, 3)))

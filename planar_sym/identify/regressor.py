@@ -39,6 +39,10 @@ def regressor(robot: Robot, q, qd, qdd, t=None) -> Regressors:
     ``Y @ standard_parameters(robot).values`` equals the inverse dynamics (to rounding).
     """
     columns(robot)  # LibraryError for code generated before the regressors
+    if not robot.is_closed_chain and t is None and _batches(robot, q, qd, qdd):
+        # the compiled caller checks shapes and finiteness itself, naming the sample as
+        # as_samples does: the Python checks would cost more than the loop (1000 2-DOF samples)
+        return Regressors(_LOOPS[robot]["regressor"](q, qd, qdd), tuple(range(robot.n)), None)
     q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
                                                                    ("qdd", qdd)))
     if not robot.is_closed_chain:
@@ -50,6 +54,17 @@ def regressor(robot: Robot, q, qd, qdd, t=None) -> Regressors:
 
 #: each robot's C-level callers of the regressor loops, made once (``model.fast_paths``)
 _LOOPS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _batches(robot: Robot, *arrays) -> bool:
+    """True when every input is already a (N, n) float64 C-contiguous batch and the tree's
+    regressor loop is compiled: then the loop's own caller takes them as they are."""
+    callers = _LOOPS.setdefault(robot, {})
+    if "regressor" not in callers:
+        callers["regressor"] = loop_caller(robot, "regressor")
+    return callers["regressor"] is not None and all(
+        type(a) is np.ndarray and a.ndim == 2 and a.dtype == np.float64
+        and a.flags.c_contiguous for a in arrays)
 
 
 def _call(robot: Robot, quantity: str, q, qd, qdd) -> tuple[np.ndarray, ...]:
