@@ -1,12 +1,15 @@
-"""Robots under control: the laws and their gains (``laws``), tracking a motion from one typed
+"""Robots under control: the laws and their gains (``laws``), LQR about an equilibrium
+(``lqr``), tracking a motion from one typed
 request (``track``: ``Tracking`` in, ``Tracked`` out). The simulation engine that runs
 them is ``planar_sym.dynamics.engine`` (with the events and SUNDIALS beside it), the signals of
 time it evaluates ``planar_sym.motion.signals``; their public names are re-exported here."""
 
 from ..dynamics.engine import ControlledRun, simulate_controlled
 from ..dynamics.events import Event
+from ..dynamics.linearize import Linearization, linearize
 from ..motion.signals import INTERPOLATIONS, Signal, from_motion, from_table
 from .laws import KINDS, Controller, bandwidth_gains, controller, effective_inertia
+from .lqr import LQR, lqr
 from .track import Tracked, Tracking, track
 
 __all__ = [
@@ -15,6 +18,8 @@ __all__ = [
            "ControlledRun",
            "Controller",
            "Event",
+           "LQR",
+           "Linearization",
            "Signal",
            "Tracked",
            "Tracking",
@@ -23,6 +28,8 @@ __all__ = [
            "effective_inertia",
            "from_motion",
            "from_table",
+           "linearize",
+           "lqr",
            "simulate_controlled",
            "track",
 ]

@@ -51,6 +51,9 @@ def controller(kind: str = "pd", kp=None, kd=None, *, width: int | None = None,
     """
     if kind not in KINDS:
         raise InputError(f"controller must be one of {', '.join(KINDS)} (got {kind!r})")
+    if kind == "lqr":
+        raise InputError("an LQR law is designed from the robot's linearisation: "
+                         "planar_sym.lqr(robot, q, q_weight=..., r_weight=...).controller()")
     if kind == "none":
         if kp is not None or kd is not None:
             raise InputError("controller \"none\" (open loop) takes no gains")

@@ -57,7 +57,7 @@ typedef struct {
 
 /* Mirrored by _CControl in planar_sym/control/loop.py (ctypes); keep the two in step. */
 typedef struct {
-    int mode;                 /* 0 open loop, 1 PD + gravity, 2 computed torque */
+    int mode;                 /* 0 open loop, 1 PD + gravity, 2 computed torque, 3 LQR */
     int saturate;
     const double *kp, *kd;    /* n_act gains */
     const double *p_nom;      /* the controller's parameters (the plant's are System.p) */
@@ -77,6 +77,9 @@ typedef struct {
     double t_stop;
     double *y_stop;           /* 2n + 2 */
     int hint_ref, hint_input;
+    const double *gain;       /* mode 3: n_act x 2n, row-major */
+    const double *x_ref;      /* mode 3: 2n, the state it holds */
+    const double *u_ref;      /* mode 3: n_act, the torques that hold it there */
 } Control;
 
 typedef struct {
@@ -156,7 +159,7 @@ static int control(System *sys, double t, const double *y) {
         signal_eval(&c->input, t, &c->hint_input, u, 0, 0);
         for (int a = 0; a < na; ++a) tc[a] += u[a];
     }
-    if (c->mode) signal_eval(&c->ref, t, &c->hint_ref, qr, qdr, qddr);
+    if (c->mode == 1 || c->mode == 2) signal_eval(&c->ref, t, &c->hint_ref, qr, qdr, qddr);
     if (c->mode == 1) {  /* PD + gravity compensation */
         for (int a = 0; a < na; ++a) {
             int i = sys->act[a];
@@ -203,6 +206,15 @@ static int control(System *sys, double t, const double *y) {
             if (((cid_fn)c->closed_inverse)(1, q, qd, qdd, c->p_nom, tau, lam, &cond, phi, phv, pha))
                 return 1;
             for (int a = 0; a < na; ++a) tc[a] += tau[a];
+        }
+    }
+    if (c->mode == 3) {  /* LQR: full-state feedback about x_ref */
+        for (int a = 0; a < na; ++a) {
+            const double *k = c->gain + (long long)a * 2 * n;
+            double v = c->u_ref[a];
+            for (int j = 0; j < n; ++j)
+                v += k[j] * (c->x_ref[j] - q[j]) + k[n + j] * (c->x_ref[n + j] - qd[j]);
+            tc[a] += v;
         }
     }
     for (int a = 0; a < na; ++a) {

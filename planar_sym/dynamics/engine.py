@@ -49,7 +49,8 @@ class _CControl(ctypes.Structure):  # mirrors Control in _integrate.c
                 ("ev_value", _P), ("armed", _P), ("max_log", ctypes.c_int),
                 ("n_log", ctypes.c_int), ("log_ev", _P), ("log_t", _P),
                 ("stopped", ctypes.c_int), ("t_stop", ctypes.c_double), ("y_stop", _P),
-                ("hint_ref", ctypes.c_int), ("hint_input", ctypes.c_int)]
+                ("hint_ref", ctypes.c_int), ("hint_input", ctypes.c_int),
+                ("gain", _P), ("x_ref", _P), ("u_ref", _P)]
 
 
 def _array(a, dtype=float) -> np.ndarray:
@@ -72,6 +73,9 @@ class _Setup:
         c.kd = self._ptr(ctl.kd or np.zeros(na))
         c.p_nom = self._ptr(robot.p)
         c.lo, c.hi = self._ptr(-bound), self._ptr(bound)
+        c.gain = self._ptr(ctl.gain or np.zeros(1))
+        c.x_ref = self._ptr(ctl.x_ref or np.zeros(1))
+        c.u_ref = self._ptr(ctl.u_ref or np.zeros(1))
         fv, fc, vs = friction(plant)
         c.fv, c.fc, c.vs = self._ptr(fv), self._ptr(fc), self._ptr(vs)
         if isinstance(torque, Signal):
@@ -161,6 +165,10 @@ def check_controller(robot: Robot, ctl: Controller) -> None:
         raise InputError(f"{robot.name}: control of a closed chain needs as many passive "
                          f"coordinates ({robot.n - len(robot.actuated)}) as loop equations "
                          f"({robot.n_constraints})")
+    if ctl.kind == "lqr" and (robot.is_closed_chain
+                              or len(ctl.gain) != 2 * robot.n * len(robot.actuated)):
+        raise InputError(f"{robot.name}: this LQR law was designed for another robot (make "
+                         "it with planar_sym.lqr on this one; closed chains: not yet)")
     for k in (ctl.kp, ctl.kd):
         if k and len(k) not in (1, len(robot.actuated)):
             raise InputError(f"{robot.name}: {len(k)} gains for {len(robot.actuated)} "
@@ -323,6 +331,11 @@ def assembly_changes(robot: Robot, t: np.ndarray, q: np.ndarray) -> list[Event]:
 
 def _reference(robot: Robot, reference, ctl: Controller) -> Signal | None:
     na = len(robot.actuated)
+    if ctl.kind == "lqr":  # it holds its own state; a reference would not be used
+        if reference is not None:
+            raise InputError("controller \"lqr\" holds the state it was designed about "
+                             "and takes no reference motion")
+        return None
     if reference is None:
         if ctl.kind != "none":
             raise InputError(f"controller {ctl.kind!r} needs a reference motion to track")

@@ -14,6 +14,9 @@ reference ``q_r(t)`` and the error ``e = q_r - q``:
                        tau = ID(q, qd, v),  v = qdd_r + Kd de/dt + Kp e
                        closed chain: v on the actuated joints, the passive accelerations
                        from Phi_q qdd = gamma, then the closed-chain inverse dynamics
+    "lqr"              full-state feedback about an equilibrium (x = (q, qd)), on every
+                       coordinate, passive ones included (a cart-pole's pole angle):
+                       tau = u_ref + K (x_ref - x),  K from planar_sym.lqr
     "none"             open loop: only the input torques (a table, a profile, a constant)
 
 With an exact model, computed torque makes every error obey ``e'' + Kd e' + Kp e = 0``: the
@@ -28,8 +31,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-KINDS = ("pd", "computed_torque", "none")
-MODE = {"none": 0, "pd": 1, "computed_torque": 2}
+KINDS = ("pd", "computed_torque", "lqr", "none")
+MODE = {"none": 0, "pd": 1, "computed_torque": 2, "lqr": 3}
 
 
 @dataclass(frozen=True)
@@ -48,12 +51,18 @@ class Controller:
         torque (``gain_units``); empty for "none".
     saturate : bool
         Whether the commanded torques are clipped at the actuator limits of the description.
+    gain, x_ref, u_ref : tuple of float
+        "lqr" only: K (actuated x 2n, row-major; N*m per rad, per rad/s...), the state it
+        holds (2n: q then qd) and the torques that hold it there (actuated).
     """
 
     kind: str
     kp: tuple[float, ...] = ()
     kd: tuple[float, ...] = ()
     saturate: bool = True
+    gain: tuple[float, ...] = ()
+    x_ref: tuple[float, ...] = ()
+    u_ref: tuple[float, ...] = ()
 
     @property
     def mode(self) -> int:

@@ -75,7 +75,10 @@ def closed_loop_rhs(robot: Robot, plant: Robot, ctl: Controller, ref: Signal | N
         tau += signal_mx(u, t)[0]
     elif u is not None:
         tau += ca.DM(u)
-    if ctl.kind != "none":
+    if ctl.kind == "lqr":  # as _integrate.c's mode 3
+        k = ca.DM(np.reshape(ctl.gain, (na, 2 * n)))
+        tau += ca.DM(ctl.u_ref) + ca.mtimes(k, ca.DM(ctl.x_ref) - x[:2 * n])
+    elif ctl.kind != "none":
         qr, qdr, qddr = signal_mx(ref, t)
         kp, kd = ca.DM(ctl.kp), ca.DM(ctl.kd)
         e, ed = qr - q[act], qdr - qd[act]

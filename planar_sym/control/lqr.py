@@ -1,0 +1,99 @@
+"""LQR about an equilibrium: the gain K that minimises the integral of
+``dx^T Q dx + du^T R du`` for the linearised robot (``dynamics.linearize``), from SciPy's
+continuous-time algebraic Riccati solver:
+
+.. code:: text
+
+    A^T P + P A - P B R^-1 B^T P + Q = 0,   K = R^-1 B^T P,   u = u_ref + K (x_ref - x)
+
+``x = (q, qd)`` holds every coordinate, passive ones included, so an underactuated robot (a
+cart-pole's free pole) is stabilised through its motors. The law runs in the compiled loop
+(``simulate_controlled``, controller kind "lqr").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..dynamics.laws import Controller
+from ..dynamics.linearize import Linearization, linearize
+from ..errors import InputError
+from ..model.robot import Robot
+
+
+@dataclass(frozen=True)
+class LQR:
+    """``gain`` K (actuated, 2n): N*m per rad and per rad/s (N per m, per m/s at a slider);
+    ``riccati`` P (2n, 2n); ``poles`` (2n,) of A - B K in 1/s, each with a negative real part;
+    ``linearization`` the model it was designed on."""
+
+    gain: np.ndarray
+    riccati: np.ndarray
+    poles: np.ndarray
+    linearization: Linearization
+
+    def controller(self, saturate: bool = True) -> Controller:
+        """The law for ``simulate_controlled``: tau = u_ref + K (x_ref - x), clipped at the
+        description's actuator limits when ``saturate``."""
+        lin = self.linearization
+        return Controller("lqr", saturate=bool(saturate),
+                          gain=tuple(self.gain.ravel().tolist()),
+                          x_ref=tuple(np.concatenate([lin.q, lin.qd]).tolist()),
+                          u_ref=tuple(lin.tau.tolist()))
+
+
+def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
+    """The LQR gain of ``robot`` about ``q`` (n,) rad (m at a slider), ``qd`` (default zero)
+    and ``tau`` (default: the torques that hold it; see ``linearize``).
+
+    ``q_weight``: (2n,) diagonal or (2n, 2n) symmetric positive semi-definite weight on the
+    state error (per rad^2, per (rad/s)^2...); ``r_weight``: (actuated,) or square, positive
+    definite, on the torques (per (N*m)^2). Raises InputError for weights of the wrong shape
+    or sign, a state that is not an equilibrium, or a linearisation no gain can stabilise.
+    """
+    from scipy.linalg import solve_continuous_are
+
+    lin = linearize(robot, q, qd, tau)
+    n2, na = lin.b.shape
+    qm = _weight("q_weight", q_weight, n2, definite=False)
+    rm = _weight("r_weight", r_weight, na, definite=True)
+    scale = max(float(np.abs(lin.a).max()), 1.0)
+    if np.abs(lin.qdd).max() > 1e-9 * scale:
+        raise InputError(f"{robot.name}: not an equilibrium (qdd = {lin.qdd.tolist()} there): "
+                         "LQR holds a state that stays put; give the torques that hold it "
+                         "(tau) or another q")
+    try:
+        p = solve_continuous_are(lin.a, lin.b, qm, rm)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise InputError(f"{robot.name}: no stabilising LQR gain at this state ({exc}): the "
+                         "motors cannot reach an unstable motion, or q_weight leaves an "
+                         "unstable motion unweighted") from None
+    k = np.linalg.solve(rm, lin.b.T @ p)
+    poles = np.linalg.eigvals(lin.a - lin.b @ k)
+    if not np.all(poles.real < 0):
+        raise InputError(f"{robot.name}: the LQR loop is not stable (poles {poles}): weight "
+                         "every state that can drift (q_weight)")
+    return LQR(k, p, poles, lin)
+
+
+def _weight(name: str, w, size: int, definite: bool) -> np.ndarray:
+    try:
+        arr = np.asarray(w, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be numbers: {size} (a diagonal) or {size}x{size}, "
+                         f"got {w!r}") from None
+    if arr.ndim == 0 or arr.shape == (size,):
+        arr = np.diag(np.broadcast_to(arr, (size,)))
+    if arr.shape != (size, size):
+        raise InputError(f"{name} must have {size} values (a diagonal) or shape "
+                         f"({size}, {size}), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)) or np.abs(arr - arr.T).max() > 1e-12 * max(
+            np.abs(arr).max(), 1e-300):
+        raise InputError(f"{name} must be finite and symmetric")
+    low = float(np.linalg.eigvalsh(arr).min())
+    if low < 0 or (definite and low <= 0):
+        raise InputError(f"{name} must be positive {'definite' if definite else 'semi-definite'}"
+                         f" (smallest eigenvalue {low:.3g})")
+    return arr

@@ -1,0 +1,148 @@
+"""Linearisation and LQR (issue 27, item 3), each against something independent: A and B
+against the closed forms of the pendulum and the cart-pole at their upright equilibria and
+against central differences of the compiled forward dynamics; the gain and the closed-loop
+poles against python-control; the compiled LQR loop against SciPy integrating the same law in
+Python, and it brings the cart-pole from a 10 degree tilt to rest."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import planar_sym as ps
+from planar_sym.control import controller, simulate_controlled
+from planar_sym.errors import InputError
+
+control = pytest.importorskip("control")
+
+UP = np.pi / 2  # the test robots' poles point along +x at q = 0: upright is a quarter turn
+G = 9.81
+
+
+def test_pendulum_upright_is_the_closed_form():
+    """Rod of 1.5 kg, cg 0.25 m, Izz 0.02 kg*m^2: theta'' = (m g l / I_o) dtheta + u / I_o."""
+    lin = ps.linearize(ps.load("tests/robots/pendulum.toml"), [UP])
+    i_o = 0.02 + 1.5 * 0.25**2
+    assert np.abs(lin.a - [[0, 1], [1.5 * G * 0.25 / i_o, 0]]).max() <= 1e-12 * 40
+    assert np.abs(lin.b - [[0], [1 / i_o]]).max() <= 1e-12 * 10
+    assert np.abs(lin.qdd).max() < 1e-12 and lin.tau == pytest.approx([0.0], abs=1e-12)
+    assert lin.states == ("pivot (rad)", "pivot_rate (rad/s)") and lin.inputs == ("pivot (N*m)",)
+
+
+def test_cart_pole_upright_is_the_closed_form():
+    """Cart 2 kg, pole 0.5 kg with cg 0.25 m and Izz 0.004: M = [[M + m, -m l], [-m l, I +
+    m l^2]] there, and the only stiffness is the pole's gravity, m g l."""
+    lin = ps.linearize(ps.load("tests/robots/cart_pole.toml"), [0.0, UP])
+    m_c, m, l, i = 2.0, 0.5, 0.25, 0.004
+    m_inv = np.linalg.inv([[m_c + m, -m * l], [-m * l, i + m * l * l]])
+    assert np.abs(lin.a[2:, :2] - m_inv @ [[0, 0], [0, m * G * l]]).max() <= 1e-12 * 50
+    assert np.abs(lin.a[2:, 2:]).max() == 0 and np.array_equal(lin.a[:2], np.eye(4)[2:])
+    assert np.abs(lin.b[2:, 0] - m_inv[:, 0]).max() <= 1e-12 and not lin.b[:2].any()
+    assert lin.inputs == ("slide (N)",)
+
+
+@pytest.mark.parametrize("ref, qd", [("serial_2dof", [0.7, -1.1]),
+                                     ("examples/serial_2dof_geared.toml", [0.02, -0.5]),
+                                     ("tests/robots/cart_pole.toml", [0.3, 1.2]),
+                                     ("serial_rpr", [0.4, 0.1, -0.6])])
+def test_jacobians_are_central_differences_of_the_forward_dynamics(ref, qd):
+    """Away from rest, with rotors and smoothed friction: A and B against the compiled forward
+    dynamics differenced (h = 1e-6, truncation about 1e-12 of the scale)."""
+    robot = ps.load(ref)
+    rng = np.random.default_rng(3)
+    q = np.asarray(robot.q_drawn) + rng.uniform(-0.4, 0.4, robot.n)
+    act = list(robot.actuated)
+    tau = rng.uniform(-0.05, 0.05, len(act))
+    lin = ps.linearize(robot, q, qd, tau)
+    n, h = robot.n, 1e-6
+
+    def f(x, u):
+        full = np.zeros(n)
+        full[act] = u
+        return np.concatenate([x[n:], robot.tree_forward_dynamics(x[:n], x[n:], full)])
+
+    x0 = np.concatenate([q, qd])
+    a = np.column_stack([(f(x0 + h * e, tau) - f(x0 - h * e, tau)) / (2 * h)
+                         for e in np.eye(2 * n)])
+    b = np.column_stack([(f(x0, tau + h * e) - f(x0, tau - h * e)) / (2 * h)
+                         for e in np.eye(len(act))])
+    assert np.abs(lin.a - a).max() <= 1e-7 * np.abs(a).max()
+    assert np.abs(lin.b - b).max() <= 1e-7 * np.abs(b).max()
+    assert np.abs(lin.qdd - f(x0, tau)[n:]).max() <= 1e-12 * np.abs(lin.qdd).max()
+
+
+def test_state_space_is_python_controls():
+    lin = ps.linearize(ps.load("tests/robots/cart_pole.toml"), [0.0, UP])
+    sys = lin.state_space()
+    assert np.array_equal(sys.A, lin.a) and np.array_equal(sys.B, lin.b)
+    assert sorted(sys.poles().real) == pytest.approx(sorted(np.linalg.eigvals(lin.a).real))
+
+
+def _cart_pole_lqr():
+    robot = ps.load("tests/robots/cart_pole.toml")
+    return robot, ps.lqr(robot, [0.0, UP], q_weight=[10.0, 50.0, 1.0, 1.0], r_weight=0.1)
+
+
+def test_gain_and_poles_are_python_controls():
+    robot, design = _cart_pole_lqr()
+    lin = design.linearization
+    k, _, poles = control.lqr(lin.a, lin.b, np.diag([10.0, 50.0, 1.0, 1.0]), [[0.1]])
+    assert np.abs(design.gain - k).max() <= 1e-9 * np.abs(k).max()
+    key = np.lexsort  # poles compared as sorted (real, imag) pairs
+    ours = design.poles[key((design.poles.imag, design.poles.real))]
+    theirs = np.asarray(poles)[key((np.asarray(poles).imag, np.asarray(poles).real))]
+    assert np.abs(ours - theirs).max() <= 1e-9 * np.abs(theirs).max()
+    assert np.all(design.poles.real < 0)
+
+
+def test_compiled_loop_brings_the_cart_pole_from_a_tilt_to_rest():
+    """10 degrees off upright, at rest: the compiled loop (C dopri5) agrees with SciPy
+    integrating u = u_ref + K (x_ref - x) on the compiled forward dynamics, and both end at
+    the equilibrium."""
+    robot, design = _cart_pole_lqr()
+    ctl = design.controller(saturate=False)
+    q0 = np.array([0.0, UP + np.radians(10.0)])
+    t = np.linspace(0.0, 8.0, 81)
+    run = simulate_controlled(robot, ctl, (0.0, 8.0), q0=q0, qd0=np.zeros(2), t_eval=t)
+    x_ref = np.array([0.0, UP, 0.0, 0.0])
+
+    def rhs(_, x):
+        u = design.linearization.tau + design.gain @ (x_ref - x)
+        return np.concatenate([x[2:], robot.tree_forward_dynamics(x[:2], x[2:], [u[0], 0.0])])
+
+    ref = solve_ivp(rhs, (0.0, 8.0), np.concatenate([q0, [0.0, 0.0]]), t_eval=t, rtol=1e-11,
+                    atol=1e-12)
+    assert np.abs(run.q - ref.y[:2].T).max() < 1e-7
+    assert np.abs(run.q[-1] - x_ref[:2]).max() < 1e-4 and np.abs(run.qd[-1]).max() < 1e-3
+    # the pole came back up and the cart moved to catch it, then returned
+    assert abs(run.q[:, 1] - UP).max() == pytest.approx(np.radians(10.0), rel=1e-9)
+    assert np.abs(run.q[:, 0]).max() > 0.01
+
+
+def test_sundials_runs_the_same_law():
+    robot, design = _cart_pole_lqr()
+    q0 = np.array([0.0, UP + np.radians(5.0)])
+    kw = dict(q0=q0, qd0=np.zeros(2), t_eval=np.linspace(0.0, 3.0, 31))
+    a = simulate_controlled(robot, design.controller(saturate=False), (0.0, 3.0), **kw)
+    b = simulate_controlled(robot, design.controller(saturate=False), (0.0, 3.0),
+                            method="cvodes", rtol=1e-10, atol=1e-12, **kw)
+    assert np.abs(a.q - b.q).max() < 1e-7
+
+
+def test_refusals_name_the_mistake():
+    robot = ps.load("tests/robots/cart_pole.toml")
+    with pytest.raises(InputError, match="not an equilibrium"):
+        ps.lqr(robot, [0.0, UP + 0.2], q_weight=1.0, r_weight=1.0)
+    with pytest.raises(InputError, match="r_weight must be positive definite"):
+        ps.lqr(robot, [0.0, UP], q_weight=1.0, r_weight=0.0)
+    with pytest.raises(InputError, match=r"q_weight must have 4 values"):
+        ps.lqr(robot, [0.0, UP], q_weight=[1.0, 2.0], r_weight=1.0)
+    with pytest.raises(InputError, match="closed chain"):
+        ps.linearize(ps.load("five_bar_type1"), ps.load("five_bar_type1").q_drawn)
+    with pytest.raises(InputError, match="planar_sym.lqr"):
+        controller("lqr", 1.0, 1.0)
+    _, design = _cart_pole_lqr()
+    with pytest.raises(InputError, match="designed for another robot"):
+        simulate_controlled(ps.load("serial_2dof"), design.controller(), (0.0, 1.0),
+                            q0=[0.0, 0.0])
