@@ -85,7 +85,7 @@ def _cart_pole_lqr():
 
 
 def test_gain_and_poles_are_python_controls():
-    robot, design = _cart_pole_lqr()
+    _, design = _cart_pole_lqr()
     lin = design.linearization
     k, _, poles = control.lqr(lin.a, lin.b, np.diag([10.0, 50.0, 1.0, 1.0]), [[0.1]])
     assert np.abs(design.gain - k).max() <= 1e-9 * np.abs(k).max()
@@ -123,7 +123,7 @@ def test_compiled_loop_brings_the_cart_pole_from_a_tilt_to_rest():
 def test_sundials_runs_the_same_law():
     robot, design = _cart_pole_lqr()
     q0 = np.array([0.0, UP + np.radians(5.0)])
-    kw = dict(q0=q0, qd0=np.zeros(2), t_eval=np.linspace(0.0, 3.0, 31))
+    kw = {"q0": q0, "qd0": np.zeros(2), "t_eval": np.linspace(0.0, 3.0, 31)}
     a = simulate_controlled(robot, design.controller(saturate=False), (0.0, 3.0), **kw)
     b = simulate_controlled(robot, design.controller(saturate=False), (0.0, 3.0),
                             method="cvodes", rtol=1e-10, atol=1e-12, **kw)

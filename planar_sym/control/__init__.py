@@ -15,10 +15,10 @@ from .track import Tracked, Tracking, track
 __all__ = [
            "INTERPOLATIONS",
            "KINDS",
+           "LQR",
            "ControlledRun",
            "Controller",
            "Event",
-           "LQR",
            "Linearization",
            "Signal",
            "Tracked",
