@@ -110,6 +110,7 @@ def _euler_lagrange(d: _Derived) -> Section:
         lhs = ([s.tau[i].name] if act else []) + ([f"(Phi_q^T lambda){i + 1}"] if closed else [])
         tex = (([nt.info[s.tau[i]].latex] if act else [])
                + ([rf"(\Phi_q^\top \lambda)_{{{i + 1}}}"] if closed else []))
+        lhs, tex = (lhs, tex) if lhs else (["0"], ["0"])  # a passive joint of a tree: no torque
         el.eqs.append(Eq((" + ".join(lhs), " + ".join(tex)), Sum(terms)))
     return el
 

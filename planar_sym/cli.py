@@ -8,7 +8,7 @@ import pkgutil
 import sys
 import warnings
 
-from . import commands
+from . import __version__, commands
 from .errors import InputError, PlanarSymError
 
 
@@ -17,6 +17,7 @@ def parser() -> argparse.ArgumentParser:
         prog="planar-sym",
         description="Dynamics of planar robots: any robot, any move, compiled.")
     ap.add_argument("--quiet", action="store_true", help="print only errors")
+    ap.add_argument("--version", action="version", version=f"planar-sym {__version__}")
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
         importlib.import_module(f"{commands.__name__}.{info.name}").register(sub)

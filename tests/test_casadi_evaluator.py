@@ -109,3 +109,20 @@ def test_runs_with_no_compiler_on_the_path(tmp_path):
                       t_eval=np.linspace(0, 0.5, 11))
     np.testing.assert_allclose(got["swing"], sim.q, rtol=0, atol=1e-13)  # seen: equal
     assert got["drift"] < 1e-9
+
+
+def test_derive_without_a_compiler_says_so(tmp_path):
+    """`planar-sym derive` with no compiler used to print "compiled None" (issue 29): it says
+    the robot was written, not compiled, and how to compile it later."""
+    env = {k: v for k, v in os.environ.items() if k not in ("CC", "PLANAR_SYM_EXACT")}
+    env.update(PATH=str(tmp_path / "empty"), PLANAR_SYM_CACHE=str(tmp_path / "cache"),
+               PLANAR_SYM_PREBUILT="0", PYTHONPATH=str(ROOT))
+    proc = subprocess.run([sys.executable, "-m", "planar_sym", "derive",
+                           str(ROOT / "tests" / "robots" / "pendulum.toml"), "--out",
+                           str(tmp_path / "out")], env=env, capture_output=True, text=True,
+                          timeout=300, check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert "None" not in proc.stdout
+    assert (f"pendulum: wrote {tmp_path / 'out' / 'pendulum'}/, not compiled (no C compiler: "
+            "it runs on CasADi's evaluator, slower; with a compiler, `planar-sym build "
+            f"{tmp_path / 'out' / 'pendulum'}`)") in proc.stdout

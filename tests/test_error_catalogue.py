@@ -703,7 +703,7 @@ def nan_start(ctx):
      "pendulum: no inverse kinematics in task space: it has 1 coordinate, 0 loop equations (1 "
      "degree of freedom), a 2-coordinate task (x, y) and 1 actuated joint; the task must fix "
      "the 1 degree of freedom, so 2 != 1: drive its actuated joint in joint space instead (a "
-     "study's motion.space = \"joint\", or motion.closure.from_actuated)")
+     "study's motion.space = \"joint\", or ps.from_actuated)")
 def no_ik(ctx):
     from derive.__main__ import main as derive_main
 

@@ -404,12 +404,12 @@ def test_check_square_messages(five):
          ("toy: no inverse kinematics in task space: it has 1 coordinate, 0 loop equations (1 "
          "degree of freedom), a 2-coordinate task (x, y) and 1 actuated joint; the task must fix "
          "the 1 degree of freedom, so 2 != 1: drive its actuated joint in joint space instead (a "
-         "study's motion.space = \"joint\", or motion.closure.from_actuated)")),
+         "study's motion.space = \"joint\", or ps.from_actuated)")),
         (_counts(4, 1, ("x", "y", "phi", "z"), 2),
          ("toy: no inverse kinematics in task space: it has 4 coordinates, 1 loop equation (3 "
          "degrees of freedom), a 4-coordinate task (x, y, phi, z) and 2 actuated joints; the task "
          "must fix the 3 degrees of freedom, so 4 != 3: drive its actuated joints in joint space "
-         "instead (a study's motion.space = \"joint\", or motion.closure.from_actuated)")),
+         "instead (a study's motion.space = \"joint\", or ps.from_actuated)")),
         (_counts(3, 2, (), 1),
          ("toy: no inverse kinematics in task space: it has 3 coordinates, 2 loop equations (1 "
          "degree of freedom), a 0-coordinate task (none) and 1 actuated joint; the task must fix "

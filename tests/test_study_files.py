@@ -295,3 +295,24 @@ def test_closed_chain_state_off_the_loops_is_refused(tmp_path):
     with pytest.raises(InputError, match=r"simulation.q0 does not close the loop at cut joint C: "
                                          r"the joint's two points are [0-9.]+ mm apart"):
         run(path)
+
+
+def test_saved_study_names_a_description_file_relative_to_itself(tmp_path, capsys):
+    """`move ROBOT.toml --save-study` wrote the robot's absolute path (issue 29): the study
+    names it relative to the study file, so the pair can be moved together and run again."""
+    import shutil
+
+    work = tmp_path / "work"
+    (work / "robots").mkdir(parents=True)
+    robot = work / "robots" / "pendulum.toml"
+    shutil.copy(Path(__file__).parent / "robots" / "pendulum.toml", robot)
+    saved = work / "studies" / "swing.toml"
+    saved.parent.mkdir()
+    assert main(["--quiet", "move", str(robot), "--joint", "--from", "0", "--to", "30", "--duration",
+                 "1", "--out", str(tmp_path / "out"), "--save-study", str(saved)]) == 0
+    assert tomllib.loads(saved.read_text())["robot"] == "../robots/pendulum.toml"
+    moved = tmp_path / "moved"
+    shutil.move(str(work), str(moved))
+    again = run(moved / "studies" / "swing.toml")  # still finds its robot
+    first = np.genfromtxt(tmp_path / "out" / "pendulum_move.csv", delimiter=",", names=True)
+    np.testing.assert_array_equal(again.columns["tau1_n_m"], first["tau1_n_m"])

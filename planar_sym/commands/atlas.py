@@ -153,13 +153,20 @@ def _several(args) -> int:
     return 0
 
 
+def area_text(area_m2: float) -> str:
+    """An area in the unit that keeps it between 1 and 10^4 (m^2, cm^2 or mm^2; 1.322 m^2,
+    not 1.322e+04 cm^2), four significant digits."""
+    for unit, scale in (("m^2", 1.0), ("cm^2", 1e4)):
+        if area_m2 * scale >= 1.0:
+            return f"{area_m2 * scale:.4g} {unit}"
+    return f"{area_m2 * 1e6:.4g} mm^2"
+
+
 def summary_text(result) -> str:
     """A few lines: area, dexterity, Type II inside, peak torques, time."""
     s = result.summary()
-    area = s["area_m2"] * 1e4
-    area_txt = f"{area:.4g} cm^2" if area >= 1 else f"{area * 100:.4g} mm^2"
-    same = s["area_same_assembly_m2"] * 1e4
-    lines = [(f"  reachable area {area_txt} (start assembly mode {same:.4g} cm^2), "
+    lines = [(f"  reachable area {area_text(s['area_m2'])} (start assembly mode "
+              f"{area_text(s['area_same_assembly_m2'])}), "
               f"{s['reachable_cells']} of {s['cells']} grid points"),
              f"  dexterity: worst {s['worst_dexterity']:.3g}, median {s['median_dexterity']:.3g}",
              (f"  Type II singularity inside the workspace: "

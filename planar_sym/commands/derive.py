@@ -80,7 +80,11 @@ def run(args) -> int:
         else:
             progress.step(f"compiling {name}")
             try:
-                message = f"{name}: wrote {folder}/, compiled {Library(name, folder).path}"
+                built = Library(name, folder).path
+                message = (f"{name}: wrote {folder}/, compiled {built}" if built is not None
+                           else f"{name}: wrote {folder}/, not compiled (no C compiler: it "
+                                "runs on CasADi's evaluator, slower; with a compiler, `planar-sym "
+                                f"build {folder}`)")
             except LibraryError as exc:
                 raise LibraryError(f"{name}: wrote {folder}/, but compiling it failed (the "
                                    f"generated C stays there; fix the compiler and run "

@@ -12,7 +12,7 @@ FORMATS = (".png", ".svg", ".pdf")
 
 def register(sub) -> None:
     p = sub.add_parser("draw", help="draw a robot in its drawn configuration (PNG)")
-    p.add_argument("robot", help="robot name (see `list`)")
+    p.add_argument("robot", help="built-in robot name (see `list`) or a description file (.toml)")
     p.add_argument("--out", type=Path, default=None,
                    help="image file, .png (or .svg, .pdf); default ROBOT.png")
     p.add_argument("--dpi", type=int, default=100, help="pixels per inch; the figure is 8 x 6 in (default 100)")

@@ -13,6 +13,7 @@ checked exactly as a study file is (``--save-study FILE`` writes that file).
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..errors import InputError
@@ -110,7 +111,11 @@ def run(args) -> int:
         from ..files import atomic_files
         from ..toml_write import dumps
 
+        saved = dict(table)
+        if Path(saved["robot"]).is_absolute():  # a study's paths are relative to the study
+            saved["robot"] = Path(os.path.relpath(
+                saved["robot"], Path(args.save_study).resolve().parent)).as_posix()
         with atomic_files([args.save_study]) as (tmp,):
-            tmp.write_text(dumps(table))
+            tmp.write_text(dumps(saved))
     report(write_study(st, args.out), name, args.quiet)
     return 0

@@ -104,6 +104,16 @@ def report(done, name: str, quiet: bool) -> None:
     extra = f" (peak |tau|: {peaks})" if peaks else ""
     solver = f" [{result.solver}]" if result.solver else ""
     print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}{solver}")
+    if result.kind == "control":  # how well it tracked: the largest error and the last one
+        import numpy as np
+
+        errors = [(f"e{s.index + 1}", s) for s in result.series("e")]
+        errors += [("tool point", s) for s in result.series("e_task")]
+        if errors:
+            print("  tracking error: max " + ", ".join(
+                f"{k} {np.abs(s.values).max():.3g} {s.unit}" for k, s in errors)
+                + "; at the end " + ", ".join(
+                f"{k} {abs(s.values[-1]):.3g} {s.unit}" for k, s in errors))
     for s in result.sizing:
         if s.gear_ratio != 1.0 or s.exceeded:
             print(f"  {s.joint}: motor peak {s.peak_motor_torque_n_m:.4g} N*m, RMS "

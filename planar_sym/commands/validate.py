@@ -12,7 +12,8 @@ from pathlib import Path
 def register(sub) -> None:
     p = sub.add_parser("validate", help="cross-check a robot's compiled dynamics (table, exit 1 "
                                         "on a failure)")
-    p.add_argument("robot", help="built-in robot name, or a generated folder DIR/<name>")
+    p.add_argument("robot", help="built-in robot name (see `list`), a description file "
+                                 "(.toml) or a generated folder DIR/<name>")
     p.add_argument("--description", type=Path, default=None,
                    help="the robot's TOML, for the SymPy check (default: DIR/<name>/"
                         "description.toml, or the file named in the manifest)")

@@ -76,7 +76,7 @@ def check_square(robot: Robot) -> None:
               f"{'s' * (na != 1)}")
     if nt != dof:
         fix = ("drive its actuated joint" + ("s" * (na != 1)) + " in joint space instead "
-               "(a study's motion.space = \"joint\", or motion.closure.from_actuated)"
+               "(a study's motion.space = \"joint\", or ps.from_actuated)"
                if nt > dof else "the task leaves joints free: add task coordinates (an "
                "orientation) or drive the joints in joint space")
         raise WorkspaceError(f"{robot.name}: no inverse kinematics in task space: it has "

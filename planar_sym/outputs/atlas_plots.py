@@ -213,8 +213,9 @@ def write_atlas(atlas: Atlas, out_dir, along: EnvelopeAlong | None = None,
                 dpi: int = 100) -> list[Path]:
     """Write the atlas's files into ``out_dir``, all of them or none.
 
-    atlas.png and atlas_torque.png (``atlas_phi<k>.png``, ``atlas_torque_phi<k>.png`` per
-    orientation k when there are several), atlas.npz (``Atlas.arrays``), atlas.csv (one row
+    atlas.png and atlas_torque.png (``atlas_phi<deg>.png``, ``atlas_torque_phi<deg>.png``
+    per orientation when there are several, named by the angle in degrees: ``atlas_phi-30.png``,
+    ``atlas_phi12.5.png``), atlas.npz (``Atlas.arrays``), atlas.csv (one row
     per cell, units in the header); with a study, envelope_along.csv and envelope_along.png.
 
     Returns
@@ -228,7 +229,7 @@ def write_atlas(atlas: Atlas, out_dir, along: EnvelopeAlong | None = None,
     layers = atlas.reachable.shape[0]
     figures = {}
     for k in range(layers):
-        tag = f"_phi{k}" if layers > 1 else ""
+        tag = f"_phi{np.degrees(atlas.phi_rad[k]):.4g}" if layers > 1 else ""
         figures[out / f"atlas{tag}.png"] = atlas_figure(atlas, k, along)
         figures[out / f"atlas_torque{tag}.png"] = torque_figure(atlas, k, along)
     if along is not None:
