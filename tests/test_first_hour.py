@@ -100,6 +100,6 @@ def test_atlas_draws_no_rounding_noise_as_a_torque(tmp_path, capsys):
         grav, q = z["gravity"], z["q"]
     reach = np.isfinite(grav[..., 0])
     g = robot.gravity(q[reach])
-    assert np.abs(g[:, 2]).max() < 1e-14 < 1.0 < np.abs(g[:, 0]).max()
+    assert np.abs(g[:, 2]).max() < 1e-14 and np.abs(g[:, 0]).max() > 1.0
     assert np.all(grav[..., 2][reach] == 0.0)
     assert np.abs(grav[..., 0][reach] - g[:, 0]).max() < 1e-12  # the shoulder: as computed
