@@ -15,7 +15,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-LAYERS = ("base", "model", "motion", "dynamics", "control", "identify", "study", "analysis", "outputs",
+LAYERS = ("base", "model", "motion", "dynamics", "control", "optimal", "identify", "study", "analysis",
+          "outputs",
           "commands", "api")
 BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress", "planar_sym.environment",
         "planar_sym.toml_write"}

@@ -1,0 +1,141 @@
+"""Time-optimal timing of a path (issue 27, item 1), against independent references: the same
+discretised problem as one linear program (SciPy's HiGHS: maximise the sum of sdot^2, whose
+optimum is the pointwise largest feasible profile, the time-optimal one), and toppra on the
+same spline and grid with our reduced dynamics as its inverse-dynamics callable. toppra 0.6
+fails on the S3 path (a NaN controllable set where a torque row vanishes): there the linear
+program is the reference."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from scipy.optimize import linprog
+from scipy.sparse import coo_matrix
+
+import planar_sym as ps
+from planar_sym.errors import InputError
+from planar_sym.motion.closure import from_actuated
+from planar_sym.optimal.time_optimal import _torques, arc_length_path
+
+
+def _s3():
+    arm = ps.load("serial_2dof")
+    t = np.linspace(0.0, 5.0, 201)
+    return arm, ps.inverse_kinematics(arm, ps.cubic([0.1, 0.1], [-0.2, 0.0], 5.0, t))
+
+
+def _s5():
+    fb = ps.load("five_bar_type1")
+    t = np.linspace(0.0, 2.0, 201)
+    return fb, ps.inverse_kinematics(fb, ps.cubic([0.060852, 0.154665], [0.05, 0.0], 2.0, t))
+
+
+def _lp(robot, path, lim):
+    """The time-optimal sdot by one LP over (x_0..x_N, u_0..u_{N-1}), x = sdot^2."""
+    s, q, q_s, q_ss = arc_length_path(robot, path)
+    z = np.zeros_like(q)
+    c = _torques(robot, q, z, z)
+    a, b = _torques(robot, q, z, q_s) - c, _torques(robot, q, q_s, q_ss) - c
+    n_pts, na, ds = len(s), a.shape[1], np.diff(s)
+    rows, cols, vals, rhs = [], [], [], []
+    r = 0
+    for i in range(n_pts - 1):
+        for k in range(na):
+            for sign in (1.0, -1.0):  # sign (a u + b x + c) <= lim
+                rows += [r, r]
+                cols += [i, n_pts + i]
+                vals += [sign * b[i, k], sign * a[i, k]]
+                rhs.append(lim[k] - sign * c[i, k])
+                r += 1
+    a_ub = coo_matrix((vals, (rows, cols)), shape=(r, 2 * n_pts - 1)).tocsr()
+    i = np.arange(n_pts - 1)
+    a_eq = coo_matrix((np.concatenate([np.ones(n_pts - 1), -np.ones(n_pts - 1), -2 * ds]),
+                       (np.tile(i, 3), np.concatenate([i + 1, i, n_pts + i]))),
+                      shape=(n_pts - 1, 2 * n_pts - 1)).tocsr()
+    bounds = [(0, 0)] + [(0, None)] * (n_pts - 2) + [(0, 0)] + [(None, None)] * (n_pts - 1)
+    res = linprog(np.concatenate([-np.ones(n_pts), np.zeros(n_pts - 1)]), A_ub=a_ub,
+                  b_ub=np.array(rhs), A_eq=a_eq, b_eq=np.zeros(n_pts - 1), bounds=bounds,
+                  method="highs")
+    assert res.status == 0, res.message
+    return np.sqrt(np.maximum(res.x[:n_pts], 0.0)), s
+
+
+def test_s3_is_the_linear_programs_optimum_and_bang_bang():
+    arm, path = _s3()
+    lim = np.array([0.5, 0.1])
+    res = ps.time_optimal(arm, path, lim)
+    sdot, s = _lp(arm, path, lim)
+    assert np.abs(res.sdot - sdot).max() <= 1e-9 * sdot.max()
+    t_lp = np.sum(2 * np.diff(s) / (sdot[:-1] + sdot[1:]))
+    assert res.duration_s == pytest.approx(t_lp, rel=1e-9)
+    assert 0.3 < res.duration_s < 0.4  # seen: 0.33514 s (the cubic move took 5 s)
+    # bang-bang: a torque on its limit at every sample but the switching ones
+    assert np.count_nonzero(~res.on_limit[1:-1]) <= 2
+    # the timed motion through the inverse dynamics stays within the limits
+    jt = res.trajectory
+    tau = arm.inverse_dynamics(jt.q, jt.qd, jt.qdd)
+    assert np.abs(tau - res.tau).max() <= 1e-12 * lim.max()
+    assert np.all(np.abs(tau) <= lim * (1 + 1e-6))
+    assert jt.t_s[0] == 0.0 and jt.t_s[-1] == res.duration_s and np.all(np.diff(jt.t_s) > 0)
+    assert np.abs(jt.qd[[0, -1]]).max() == 0.0  # rest to rest
+
+
+def test_s5_closed_chain_equals_toppra_on_the_same_grid():
+    toppra = pytest.importorskip("toppra")
+    from toppra import algorithm, constraint
+
+    fb, path = _s5()
+    lim = np.array([0.1, 0.1])
+    res = ps.time_optimal(fb, path, lim)
+    s, *_ = arc_length_path(fb, path)
+    act = list(fb.actuated)
+
+    def reduced(qa, va, aa):  # toppra's callable: the actuated torques of the closed chain
+        jt = from_actuated(fb, np.zeros(1), np.atleast_2d(qa), np.atleast_2d(va),
+                           np.atleast_2d(aa), q_guess=path.q[0])
+        return fb.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd)[0][0]
+
+    torque = constraint.JointTorqueConstraint(
+        reduced, np.column_stack([-lim, lim]), np.zeros(2),
+        discretization_scheme=constraint.DiscretizationType.Collocation)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        theirs = algorithm.TOPPRA([torque], toppra.SplineInterpolator(s, path.q[:, act]),
+                                  gridpoints=s, solver_wrapper="seidel").compute_trajectory(0, 0)
+    assert theirs is not None
+    assert res.duration_s == pytest.approx(theirs.duration, rel=1e-6)  # seen: 2e-8
+    jt = res.trajectory
+    assert np.abs(fb.constraint(jt.q)).max() < 1e-9
+    tau, _ = fb.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd)
+    assert np.all(np.abs(tau) <= lim * (1 + 1e-6))
+    assert np.count_nonzero(~res.on_limit[1:-1]) <= 2
+
+
+def test_speed_limit_is_held():
+    arm, path = _s3()
+    free = ps.time_optimal(arm, path, [0.5, 0.1])
+    slow = ps.time_optimal(arm, path, [0.5, 0.1], speed_limit=[2.0, 2.0])
+    assert np.abs(free.trajectory.qd).max() > 2.0
+    assert np.abs(slow.trajectory.qd).max() <= 2.0 * (1 + 1e-9)
+    assert slow.duration_s > free.duration_s
+
+
+def test_refusals_name_the_mistake():
+    arm, path = _s3()
+    with pytest.raises(InputError, match="torque_limit is needed"):
+        ps.time_optimal(arm, path)
+    with pytest.raises(InputError, match="torque_limit must be positive"):
+        ps.time_optimal(arm, path, [0.5, -0.1])
+    with pytest.raises(InputError, match=r"cannot be followed within the limits at sample"):
+        ps.time_optimal(arm, path, [0.01, 0.001])  # below the gravity torque
+    with pytest.raises(InputError, match="friction"):
+        ps.time_optimal(ps.load("examples/serial_2dof_geared.toml"), path, [0.5, 0.1])
+    cart = ps.load("tests/robots/cart_pole.toml")
+    with pytest.raises(InputError, match="underactuated"):
+        ps.time_optimal(cart, path, [1.0])
+    still = type(path)(path.t_s, np.repeat(path.q[:1], len(path.t_s), axis=0),
+                       np.zeros_like(path.q), np.zeros_like(path.q))
+    with pytest.raises(InputError, match="stands still between samples 0 and 1"):
+        ps.time_optimal(arm, still, [0.5, 0.1])
