@@ -7,12 +7,16 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+
 
 def _value(v) -> str:
-    if isinstance(v, bool):
+    if isinstance(v, (bool, np.bool_)):
         return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v)
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):  # NumPy 2's repr is np.float64(0.3): not TOML
+        return repr(float(v))
     if isinstance(v, str):
         return json.dumps(v)  # a JSON string is a valid TOML basic string
     if isinstance(v, (list, tuple)):
@@ -22,8 +26,13 @@ def _value(v) -> str:
     raise TypeError(f"cannot write {v!r} as TOML")
 
 
+#: the characters of a bare TOML key (ASCII only: str.isalnum would pass "é", which TOML
+#: refuses unquoted)
+_BARE = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-")
+
+
 def _key(k: str) -> str:
-    return k if k.replace("_", "").replace("-", "").isalnum() else json.dumps(k)
+    return k if k and set(k) <= _BARE else json.dumps(k)
 
 
 def _tables(v) -> bool:

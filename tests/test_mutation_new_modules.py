@@ -427,3 +427,132 @@ def test_the_controller_saturates_unless_told_not_to():
     assert design.controller().saturate is True
     assert design.controller(saturate=False).saturate is False
     assert design.controller().gain == pytest.approx(tuple(design.gain.ravel()), abs=0)
+
+
+# --- identify/regressor.py -----------------------------------------------------------------------
+
+def _regressor_module():
+    import importlib
+
+    # (the package exports the function regressor, which hides the module of that name)
+    return importlib.import_module("planar_sym.identify.regressor")
+
+
+def _tree_states(n_samples=6):
+    import planar_sym as ps
+    from planar_sym.identify.states import random_states
+
+    robot = ps.load("serial_2dof").with_parameters()  # a new robot: no callers bound yet
+    return robot, *random_states(robot, n_samples, seed=5)
+
+
+def _spy(monkeypatch, module, name):
+    calls, real = [], getattr(module, name)
+
+    def spy(*args, **kwargs):
+        calls.append(args[1] if name == "loop_caller" else args[0])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(module, name, spy)
+    return calls
+
+
+def test_a_float64_batch_goes_straight_to_the_compiled_loop(monkeypatch):
+    """A (N, n) float64 C-contiguous batch of q, qd and qdd skips the Python checks
+    (as_samples); any one input that is not (float32, Fortran order, a list) sends all three
+    through them. Either way Y pi is the compiled inverse dynamics."""
+    from planar_sym.identify.standard import standard_parameters
+
+    reg = _regressor_module()
+    robot, q, qd, qdd = _tree_states()
+    if reg.loop_caller(robot, "regressor") is None:
+        pytest.skip("no vectorised regressor loop in this build (no compiler)")
+    calls = _spy(monkeypatch, reg, "as_samples")
+    pi = standard_parameters(robot).values
+    tau = robot.tree_inverse_dynamics(q, qd, qdd)
+    y = reg.regressor(robot, q, qd, qdd)
+    assert calls == []
+    assert np.abs(y.y @ pi - tau).max() <= 1e-12 * np.abs(tau).max()
+    for k in range(3):
+        for other in (np.float32, "F", list):
+            arrays = [q, qd, qdd]
+            arrays[k] = (arrays[k].tolist() if other is list else np.asfortranarray(arrays[k])
+                         if other == "F" else arrays[k].astype(np.float32))
+            calls.clear()
+            got = reg.regressor(robot, *arrays)
+            assert calls == ["q", "qd", "qdd"], (k, other)
+            if other is not np.float32:
+                assert np.array_equal(got.y, y.y)
+
+
+def test_the_vectorised_loop_is_bound_once_per_robot_and_quantity(monkeypatch):
+    """The first call binds the loop of the quantity it needs (the tree's regressor, a closed
+    chain's closed_regressor), and Y pi is still the inverse dynamics."""
+    import planar_sym as ps
+    from planar_sym.identify.standard import standard_parameters
+    from planar_sym.identify.states import random_states
+
+    reg = _regressor_module()
+    robot = ps.load("five_bar_type1").with_parameters()
+    if reg.loop_caller(robot, "closed_regressor") is None:
+        pytest.skip("no vectorised regressor loop in this build (no compiler)")
+    calls = _spy(monkeypatch, reg, "loop_caller")
+    q, qd, qdd = random_states(robot, 5, seed=2)
+    for _ in range(2):
+        out = reg.regressor(robot, q, qd, qdd)
+    assert calls == ["closed_regressor"]
+    assert out.rows == (0, 2)  # its actuated coordinates: A and E of (A, B, E, D)
+    tau, lam = robot.closed_chain_inverse_dynamics(q, qd, qdd)
+    pi = standard_parameters(robot).values
+    assert np.abs(out.y @ pi - tau).max() <= 1e-12 * np.abs(tau).max()
+    assert np.abs(out.y_lambda @ pi - lam).max() <= 1e-12 * np.abs(lam).max()
+    tree, q, qd, qdd = _tree_states()
+    calls.clear()
+    for _ in range(2):
+        out = reg.regressor(tree, q.tolist(), qd.tolist(), qdd.tolist())
+    assert calls == ["regressor"] and out.rows == (0, 1) and out.y_lambda is None
+
+
+@pytest.mark.parametrize("bad", [0, 1, 2])
+def test_a_list_of_the_wrong_width_is_named(bad):
+    robot, q, qd, qdd = _tree_states(5)
+    arrays = [q.tolist(), qd.tolist(), qdd.tolist()]
+    arrays[bad] = [[0.0] * 3] * 5
+    with pytest.raises(InputError) as err:
+        _regressor_module().regressor(robot, *arrays)
+    assert str(err.value) == f"{('q', 'qd', 'qdd')[bad]} must have shape (N, 2) or (2,), got (5, 3)"
+
+
+def test_a_refused_sample_is_named_with_its_time():
+    import planar_sym as ps
+    from planar_sym.identify.states import random_states
+
+    reg = _regressor_module()
+    robot, q, qd, qdd = _tree_states(5)
+    t = np.linspace(0.0, 0.4, 5)
+    qd[3, 1] = np.nan
+    with pytest.raises(InputError) as err:
+        reg.regressor(robot, q, qd, qdd, t=t)
+    assert str(err.value) == "qd[3, 1] is nan at sample 3 (t = 0.3 s): inputs must be finite"
+    closed = ps.load("five_bar_type1")
+    q, qd, qdd = random_states(closed, 5, seed=1)
+    q[3, 0] += 1e-3
+    with pytest.raises(InputError, match=r"^five_bar_type1: sample 3 \(t = 0\.3 s\) is off the "
+                                         r"loop constraints: \|Phi\| = "):
+        reg.regressor(closed, q, qd, qdd, t=t)
+
+
+def test_keys_outside_ascii_are_quoted_and_numpy_numbers_written_as_numbers():
+    """Two bugs the mutation run found in toml_write: a non-ASCII key written bare (TOML
+    refuses it) and a NumPy float written as np.float64(0.3)."""
+    import tomllib
+
+    import numpy as np
+
+    from planar_sym.toml_write import dumps
+
+    table = {"é": 1, "x²": 2.5, "a": {"b": np.float64(0.3), "c": np.int64(4),
+                                      "d": np.bool_(True)}}
+    back = tomllib.loads(dumps(table))
+    assert back == {"é": 1, "x²": 2.5, "a": {"b": 0.3, "c": 4, "d": True}}
+    assert type(back["a"]["c"]) is int

@@ -31,6 +31,8 @@ PRISMATIC_STUDIES = ("slider_crank_turn", "slider_crank_slider_driven_stroke",
 #: the built-in control studies (issue 12), checked in tests/test_control.py
 CONTROL_STUDIES = ("serial_2dof_cartesian_track", "serial_2dof_cartesian_track_pd",
                    "five_bar_type1_track_x")
+#: the built-in time-optimal studies (issue 27), checked in tests/test_time_optimal.py
+FASTEST_STUDIES = ("serial_2dof_cartesian_fastest", "five_bar_type1_move_x_fastest")
 
 
 def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
@@ -51,7 +53,7 @@ def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
 
 def test_the_built_in_studies_are_the_seed_scenarios():
     assert tuple(builtin.names()) == tuple(sorted(SEED_STUDIES + PRISMATIC_STUDIES
-                                                       + CONTROL_STUDIES))
+                                                       + CONTROL_STUDIES + FASTEST_STUDIES))
 
 
 @pytest.mark.parametrize("name", SEED_STUDIES)

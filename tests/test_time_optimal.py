@@ -139,3 +139,43 @@ def test_refusals_name_the_mistake():
                        np.zeros_like(path.q), np.zeros_like(path.q))
     with pytest.raises(InputError, match="stands still between samples 0 and 1"):
         ps.time_optimal(arm, still, [0.5, 0.1])
+
+
+def test_builtin_studies_time_their_paths_as_the_api_does():
+    """`[optimise]` in an inverse study: the CSV's times and torques are time_optimal's on the
+    study's path, the torques recomputed by the study's own inverse dynamics."""
+    arm, path = _s3()
+    api = ps.time_optimal(arm, path, [0.5, 0.1])
+    res = ps.run_study("serial_2dof_cartesian_fastest")
+    assert np.abs(res.get("t").values - api.trajectory.t_s).max() <= 1e-12
+    tau = np.column_stack([res.get("tau", k).values for k in range(2)])
+    assert np.abs(tau - api.tau).max() <= 1e-12
+    assert res.timing.startswith("time-optimal: 0.3351 s (the motion as given: 5 s)")
+    five = ps.run_study("five_bar_type1_move_x_fastest")
+    assert five.get("t").values[-1] == pytest.approx(0.234678, rel=1e-5)
+    assert np.abs(np.column_stack([s.values for s in five.series("tau")])).max() <= 0.1 * (
+        1 + 1e-6)
+
+
+def test_optimise_table_is_checked_with_the_study(tmp_path):
+    from planar_sym.study.run import motion_and_reference
+    from planar_sym.study.spec import parse
+
+    base = {"robot": "serial_2dof", "kind": "inverse", "units": {"length": "mm"},
+            "motion": {"space": "task", "profile": "cubic", "start": [100.0, 100.0],
+                       "by": [-200.0, 0.0], "duration": 5.0, "samples": 51}}
+    with pytest.raises(InputError, match=r"optimise.torque_limit: must be positive"):
+        parse({**base, "optimise": {"torque_limit": [0.5, -0.1]}}, "s")
+    with pytest.raises(InputError, match=r"optimise.speed: unknown key"):
+        parse({**base, "optimise": {"speed": [1.0, 1.0]}}, "s")
+    with pytest.raises(InputError, match=r"optimise: only for kind = \"inverse\""):
+        parse({"robot": "serial_2dof", "kind": "forward", "optimise": {},
+               "simulation": {"q0": [0.0, 0.0], "duration": 1.0}}, "s")
+    st = parse({**base, "optimise": {"torque_limit": [0.5, 0.1, 0.2]}}, "s")
+    with pytest.raises(InputError, match=r"needs 2 values, one per motor \(got 3\)"):
+        ps.run_study(st)
+    # pictures of a timed study: evenly spaced frames over the time reached
+    st = parse({**base, "optimise": {"torque_limit": [0.5, 0.1]}}, "s")
+    _, t, q, _ = motion_and_reference(st, 12)
+    assert len(t) == 12 and np.allclose(np.diff(t), t[-1] / 11) and t[-1] < 0.4
+    assert q[0] == pytest.approx([0.0, np.pi / 2]) and q.shape == (12, 2)

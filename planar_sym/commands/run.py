@@ -104,6 +104,8 @@ def report(done, name: str, quiet: bool) -> None:
     extra = f" (peak |tau|: {peaks})" if peaks else ""
     solver = f" [{result.solver}]" if result.solver else ""
     print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}{solver}")
+    if result.timing:  # an [optimise] study: the time reached
+        print(f"  {result.timing}")
     if result.kind == "control":  # how well it tracked: the largest error and the last one
         import numpy as np
 

@@ -36,6 +36,37 @@ def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
     return jt, (robot.task(jt.q)[0] if robot.task_names else None)
 
 
+def timed_motion(st: specs.Study, robot: Robot, samples: int | None = None
+                 ) -> tuple[JointTrajectory, np.ndarray | None, str]:
+    """``joint_motion``, and with ``[optimise]`` its path timed as fast as the limits allow
+    (``planar_sym.time_optimal``: the same samples at new times); a note says what was done
+    ("" without ``[optimise]``)."""
+    jt, x = joint_motion(st, robot, samples)
+    if st.optimise is None:
+        return jt, x, ""
+    from ..optimal.time_optimal import time_optimal
+
+    speed = st.optimise.speed_limit
+    if speed is not None:
+        if len(speed) != robot.n:
+            raise InputError(f"{st.path or st.name}: optimise.speed_limit: {robot.name} needs "
+                             f"{robot.n} values, one per coordinate (got {len(speed)})")
+        speed = np.asarray(speed) * coordinate_scale(st, robot)
+    limit = st.optimise.torque_limit
+    if limit is not None and len(limit) not in (1, len(robot.actuated)):
+        raise InputError(f"{st.path or st.name}: optimise.torque_limit: {robot.name} needs "
+                         f"{len(robot.actuated)} values, one per motor (got {len(limit)})")
+    fast = time_optimal(robot, jt, limit, speed)
+    new = fast.trajectory
+    x = robot.task(new.q)[0] if robot.task_names else None
+    units = ", ".join("N" if robot.coordinate_units[i] == "m" else "N*m" for i in robot.actuated)
+    note = (f"time-optimal: {fast.duration_s:.4g} s (the motion as given: "
+            f"{jt.t_s[-1] - jt.t_s[0]:.4g} s) under |tau| <= "
+            f"{', '.join(f'{v:g}' for v in fast.limits)} ({units}); a torque on its limit at "
+            f"{int(fast.on_limit.sum())} of {len(fast.on_limit)} samples")
+    return new, x, note
+
+
 #: a start pose for the inverse kinematics only picks the assembly mode, so it may be typed
 #: approximately; further off than this (m) it is not an assembled pose at all
 START_POSE_GAP_M = 1e-3

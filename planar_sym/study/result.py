@@ -62,6 +62,8 @@ class Result:
     warnings : tuple of str
         What the run warned about (a likely unit slip in a parameter, a pose near a singular
         one): shown on the page and in the notebook, carried in the metadata.
+    timing : str
+        An ``[optimise]`` study: how its path was timed (the time reached, the limits), else "".
     """
 
     name: str
@@ -81,6 +83,8 @@ class Result:
     events: tuple = ()
     #: the run's warnings, each a sentence (also shown on stderr as they happened)
     warnings: tuple[str, ...] = ()
+    #: an [optimise] study: how its path was timed ("" otherwise)
+    timing: str = ""
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "data", tuple(self.data))

@@ -31,7 +31,7 @@ from . import spec as specs
 from .builtin import find as find_builtin
 from .columns import coordinates_note as _coordinates_note
 from .columns import task_series
-from .motion import initial_state, joint_motion
+from .motion import initial_state, joint_motion, timed_motion
 from .parameters import with_overrides
 from .result import Result, Series
 
@@ -105,8 +105,8 @@ def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
         plant = (with_overrides(robot, st.control.plant, f"{st.path or st.name}: control.plant")
                  if st.control.plant else None)
         return run_control(st, robot, samples, plant)
-    jt, x = joint_motion(st, robot, samples)
-    return _inverse(st, robot, jt, x)
+    jt, x, timing = timed_motion(st, robot, samples)
+    return _inverse(st, robot, jt, x, timing)
 
 
 def coordinate_series(robot: Robot, quantity: str, values: np.ndarray,
@@ -119,7 +119,7 @@ def coordinate_series(robot: Robot, quantity: str, values: np.ndarray,
     return [Series.of_coordinate(quantity, i, units[i], values[:, k]) for k, i in enumerate(on)]
 
 
-def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
+def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x, timing: str = "") -> Result:
     inv = inverse_along(robot, jt.t_s, jt.q, jt.qd, jt.qdd)
     data = [Series("t", "s", jt.t_s)]
     if x is not None:
@@ -133,7 +133,7 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
     data += load_series(inv.loads)
     data += [Series("p", "W", inv.power_w[:, k], index=i)  # the power each actuator delivers
              for k, i in enumerate(robot.actuated)]
-    note = _coordinates_note(robot)
+    note = _coordinates_note(robot) + (f"; {timing}" if timing else "")
     if inv.loop_residual_m is not None:
         note += (f"; loop residual max |Phi| = {inv.loop_residual_m:.1e} m; f*: force on the "
                  "cut joint's parent body")
@@ -148,7 +148,7 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x) -> Result:
         note += "; ACTUATOR LIMITS EXCEEDED: " + "; ".join(over)
     return Result(st.name, st.title, data, kind="torques", note=note, split=inv.split,
                   sizing=inv.sizing,
-                  robot=robot.name, solver=solver, actuated=robot.actuated)
+                  robot=robot.name, solver=solver, actuated=robot.actuated, timing=timing)
 
 
 def load_series(loads: JointLoads) -> list[Series]:
@@ -252,5 +252,12 @@ def motion_and_reference(study: str | Path | specs.Study, frames: int
                   else run(st, samples=frames))
         q = np.column_stack([result.get("q", index=i).values for i in range(robot.n)])
         return robot, result.get("t").values, q, result.reference
-    jt, _ = joint_motion(st, robot, frames)
-    return robot, jt.t_s, jt.q, None
+    if st.optimise is None:
+        jt, _ = joint_motion(st, robot, frames)
+        return robot, jt.t_s, jt.q, None
+    # timed on the study's own samples, then drawn at evenly spaced times
+    from scipy.interpolate import CubicHermiteSpline
+
+    jt, _, _ = timed_motion(st, robot)
+    t = np.linspace(jt.t_s[0], jt.t_s[-1], frames)
+    return robot, t, CubicHermiteSpline(jt.t_s, jt.q, jt.qd)(t), None

@@ -31,6 +31,11 @@
                                    # { file = "t.csv", interpolation = "linear" }, or a profile
                                    # { profile = "cubic", start = [...], end = [...], duration }
 
+    [optimise]                     # kind = "inverse": time the motion's path as fast as
+    torque_limit = [0.5, 0.1]      # these N*m (N) per motor allow (default: the description's
+                                   # torque_limit), rest to rest; speed_limit = [...] per
+                                   # coordinate in the file's units per s (optional)
+
     [outputs]
     csv = true                     # and plot, split, animation ("gif" / "mp4"), frames
 
@@ -66,7 +71,8 @@ MAX_DURATION_S = 1e6
 MAX_FRAMES = 2000
 
 _TOP = {"title", "robot", "kind", "units", "parameters", "motion", "simulation", "outputs", "notes",
-        "control", "events"}
+        "control", "events", "optimise"}
+_OPTIMISE = {"torque_limit", "speed_limit"}
 _UNITS = {"length", "angle"}
 _MOTION = {"space", "profile", "start", "by", "end", "duration", "samples", "v_max", "a_max",
            "times", "points", "file", "ik", "start_pose"}
@@ -109,6 +115,16 @@ class Simulation:
 
 
 @dataclass(frozen=True)
+class Optimise:
+    """Time the motion's path as fast as the limits allow (``planar_sym.time_optimal``):
+    torque limits in N*m (N at a slider) per motor, None for the description's; speed limits
+    per coordinate in the file's units per s, None for none."""
+
+    torque_limit: tuple[float, ...] | None = None
+    speed_limit: tuple[float, ...] | None = None
+
+
+@dataclass(frozen=True)
 class Outputs:
     csv: bool = True
     plot: bool = True
@@ -134,6 +150,7 @@ class Study:
     path: Path | None = None
     control: ControlSpec | None = None
     events: EventsSpec | None = None
+    optimise: Optimise | None = None
 
     @property
     def length_si(self) -> float:
@@ -184,13 +201,19 @@ def parse(data: dict, name: str, path: Path | None = None) -> Study:
         for key in ("control", "events"):
             if key in data:
                 c.err(key, f"only for kind = \"control\" (this study is \"{kind}\")")
+    optimise = None
+    if "optimise" in data:
+        if kind == "inverse":
+            optimise = c.optimise(c.table(data, "optimise"))
+        elif kind is not None:
+            c.err("optimise", f"only for kind = \"inverse\" (this study is \"{kind}\")")
     outputs = c.outputs(c.table(data, "outputs"))
     title = data.get("title", name)
     if not isinstance(title, str):
         c.err("title", f"must be a string (got {title!r})")
     c.done()
     return Study(name, str(title), c.robot_ref(robot), kind, length, angle, params, motion, sim,
-                 outputs, path, control, events)
+                 outputs, path, control, events, optimise)
 
 
 class _Checker(Checker):
@@ -321,6 +344,16 @@ class _Checker(Checker):
         if None in (q0, duration, method, rtol, atol):
             return None
         return Simulation(q0, duration, qd0, samples, torque, method, rtol, atol)
+
+    def optimise(self, o: dict) -> Optimise:
+        self.keys(o, _OPTIMISE, "optimise.")
+        limits = {}
+        for key in sorted(_OPTIMISE):
+            v = self.vector(o, key, f"optimise.{key}")
+            if v is not None and not all(x > 0 for x in v):
+                self.err(f"optimise.{key}", f"must be positive (got {list(v)})")
+            limits[key] = v
+        return Optimise(**limits)
 
     def outputs(self, o: dict) -> Outputs:
         self.keys(o, _OUTPUTS, "outputs.")
