@@ -1,4 +1,5 @@
-"""Progress lines for work that takes seconds (deriving, compiling, validating, simulating).
+"""Progress lines for work that takes seconds (deriving, compiling, validating, simulating,
+writing an animation, sweeping designs).
 
 Shown on standard error, and only when it is a terminal: a pipe, a log file or a CI job gets
 nothing, so captured output stays exactly the results. ``--quiet`` silences it too.
@@ -10,6 +11,12 @@ nothing, so captured output stays exactly the results. ``--quiet`` silences it t
         progress.step(f"deriving {robot}")    # "[2/5] deriving serial_3dof ..."
         ...
     progress.done()                            # "done: 5 in 9.8 s"
+
+    meter = Meter(frames, "writing s3.gif")    # one job counted in units: one line,
+    for k in range(frames):                    # rewritten in place on a terminal
+        ...
+        meter(k + 1)                           # "writing s3.gif: 31/60 (51 %)"
+    meter.close()                              # "writing s3.gif: 60/60 in 12.3 s"
 """
 
 from __future__ import annotations
@@ -69,3 +76,38 @@ def track(items: Iterable[T], what: str, *, quiet: bool = False,
         progress.step(f"{what} {item}")
         yield item
     progress.done()
+
+
+#: a Meter rewrites its line at most this often (s): a terminal is not flooded
+INTERVAL_S = 0.5
+
+
+class Meter:
+    """Progress of one long job counted in units (frames, designs): one line on a terminal
+    (``wanted``), rewritten in place at most every ``INTERVAL_S``; call it with the units done
+    (it is the ``progress`` callback the animation and the sweep take), then ``close``."""
+
+    def __init__(self, total: int, what: str, *, quiet: bool = False,
+                 stream: TextIO | None = None):
+        self.stream = sys.stderr if stream is None else stream
+        self.enabled = wanted(self.stream, quiet)
+        self.total, self.what, self.done = total, what, 0
+        self.start = time.perf_counter()
+        self._shown = -INTERVAL_S
+
+    def __call__(self, done: int, total: int | None = None) -> None:
+        """``done`` units so far (of ``total``, where the caller knows it better)."""
+        self.done = done
+        self.total = self.total if total is None else total
+        now = time.perf_counter() - self.start
+        if self.enabled and self.total > 0 and (now - self._shown >= INTERVAL_S
+                                                or done >= self.total):
+            self._shown = now
+            print(f"\r{self.what}: {done}/{self.total} ({100 * done // self.total} %)", end="",
+                  file=self.stream, flush=True)
+
+    def close(self) -> None:
+        """End the line with the count and the time taken."""
+        if self.enabled and self.total > 0:
+            print(f"\r{self.what}: {self.done}/{self.total} in "
+                  f"{time.perf_counter() - self.start:.1f} s", file=self.stream, flush=True)

@@ -93,3 +93,44 @@ def test_derive_shows_progress_per_robot(tmp_path, monkeypatch):
     tty.seek(0)
     assert derive_main([str(toml), "--out", str(tmp_path / "module"), "--quiet"]) == 0
     assert tty.getvalue() == ""
+
+
+def test_meter_rewrites_one_line_and_ends_it(monkeypatch):
+    """A long job counted in units: '\\r'-rewritten, throttled, ended with count and time."""
+    import itertools
+    from types import SimpleNamespace
+
+    import planar_sym.progress as progress_module
+    from planar_sym.progress import Meter
+
+    clock = itertools.chain([0.0, 0.1, 0.2, 0.9, 1.0, 1.1], itertools.count(2.0))
+    monkeypatch.setattr(progress_module, "time", SimpleNamespace(perf_counter=lambda: next(clock)))
+    stream = FakeTTY()
+    meter = Meter(4, "drawing s.gif", stream=stream)
+    for k in (1, 2, 3, 4):  # at 0.1 s shown; 0.2 s too soon; 0.9 s shown; the last always
+        meter(k)
+    meter.close()
+    assert stream.getvalue() == ("\rdrawing s.gif: 1/4 (25 %)\rdrawing s.gif: 3/4 (75 %)"
+                                 "\rdrawing s.gif: 4/4 (100 %)\rdrawing s.gif: 4/4 in 1.1 s\n")
+    quiet, pipe = FakeTTY(), io.StringIO()
+    for m in (Meter(4, "x", quiet=True, stream=quiet), Meter(4, "x", stream=pipe)):
+        m(4)
+        m.close()
+    assert quiet.getvalue() == pipe.getvalue() == ""
+
+
+def test_animation_and_sweep_count_their_units_on_a_terminal(tmp_path, monkeypatch):
+    tty = tty_stderr(monkeypatch)
+    assert main(["animate", "serial_2dof_joint_move", "--frames", "6", "--out",
+                 str(tmp_path / "a.gif")]) == 0
+    assert "serial_2dof_joint_move: drawing a.gif: 6/6 in " in tty.getvalue()
+    tty.truncate(0)
+    tty.seek(0)
+    assert main(["sweep", "serial_2dof_cartesian_move", "--vary", "m_motor2=0.2:0.4:5",
+                 "--out", str(tmp_path)]) == 0
+    assert "serial_2dof_cartesian_move: designs: 5/5 in " in tty.getvalue()
+    tty.truncate(0)
+    tty.seek(0)
+    assert main(["--quiet", "animate", "serial_2dof_joint_move", "--frames", "6", "--out",
+                 str(tmp_path / "b.gif")]) == 0
+    assert tty.getvalue() == ""

@@ -119,7 +119,7 @@ class SweepResult:
 def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, seed: int = 0,
           executor: Executor | None = None, workers: int | None = None,
           batch: int | None = None, atlas: dict | None = None,
-          on: str = "both") -> SweepResult:
+          on: str = "both", progress=None) -> SweepResult:
     """Run ``study`` once per design and collect its figures.
 
     Parameters
@@ -145,6 +145,9 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
         (default; a varied parameter that ``[control.plant]`` sets takes the design's value
         there too), the model only (the plant keeps the study's plant), or the plant only (the
         controller keeps the study's model). Any other study has one robot: only "both".
+    progress : callable, optional
+        Called as ``progress(done, total)`` with the numbers of designs done and in all after
+        each batch (in the batches' order; ``planar_sym.progress.Meter``).
 
     Returns
     -------
@@ -185,7 +188,7 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
     own = executor is None
     pool = ThreadPoolExecutor(n_workers) if own else executor
     try:
-        outs = _gather(pool, jobs)
+        outs = _gather(pool, jobs, progress)
     finally:
         if own:
             pool.shutdown()
@@ -252,8 +255,9 @@ class _Out:
     failed: dict[int, str]
 
 
-def _gather(pool, jobs: list[_Job]) -> list[_Out | BaseException]:
-    """Each batch's figures, or the exception its worker raised (the others are kept)."""
+def _gather(pool, jobs: list[_Job], progress=None) -> list[_Out | BaseException]:
+    """Each batch's figures, or the exception its worker raised (the others are kept);
+    ``progress(designs done, designs)`` after each batch."""
     futures = []
     for job in jobs:
         try:
@@ -261,14 +265,18 @@ def _gather(pool, jobs: list[_Job]) -> list[_Out | BaseException]:
         except Exception as exc:  # noqa: BLE001 - a refused submission loses only its batch
             futures.append(exc)
     outs: list[_Out | BaseException] = []
-    for fut in futures:
+    done, total = 0, sum(len(job.P) for job in jobs)
+    for job, fut in zip(jobs, futures):
+        done += len(job.P)
         if isinstance(fut, BaseException):
             outs.append(fut)
-            continue
-        try:
-            outs.append(fut.result())
-        except Exception as exc:  # noqa: BLE001 - reported with the batch's designs
-            outs.append(exc)
+        else:
+            try:
+                outs.append(fut.result())
+            except Exception as exc:  # noqa: BLE001 - reported with the batch's designs
+                outs.append(exc)
+        if progress is not None:
+            progress(done, total)
     return outs
 
 

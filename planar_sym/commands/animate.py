@@ -24,7 +24,7 @@ def run(args) -> int:
 
     st = load_study(args.study)
     out = args.out or Path(f"{st.name}.gif")
-    animate_study(st, out, frames=args.frames, fps=args.fps, dpi=args.dpi)
+    animate_study(st, out, frames=args.frames, fps=args.fps, dpi=args.dpi, quiet=args.quiet)
     if not args.quiet:
         print(f"{st.name}: wrote {out} ({args.frames} frames at {args.fps:g} fps)")
     return 0

@@ -45,7 +45,7 @@ def run(args) -> int:
         results.append(result)
         progress(f"{name}: {', '.join(p.name for p in write(result, out, split=True))}")
         gif = animate_study(st, out / f"{name}.gif", frames=args.frames, fps=args.fps,
-                            dpi=80, figsize=(5.0, 4.2))
+                            dpi=80, figsize=(5.0, 4.2), quiet=args.quiet)
         progress(f"{name}: {gif.name} ({args.frames} frames)")
     for robot in robots:
         save_drawing(robot, out / f"{robot}.png")

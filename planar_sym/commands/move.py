@@ -117,5 +117,5 @@ def run(args) -> int:
                 saved["robot"], Path(args.save_study).resolve().parent)).as_posix()
         with atomic_files([args.save_study]) as (tmp,):
             tmp.write_text(dumps(saved))
-    report(write_study(st, args.out), name, args.quiet)
+    report(write_study(st, args.out, quiet=args.quiet), name, args.quiet)
     return 0

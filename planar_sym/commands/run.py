@@ -37,8 +37,8 @@ def run(args) -> int:
     check_out(args.out)
     studies = [load_study(r) for r in refs]  # every file checked before anything runs
     for st in studies:
-        report(write_study(st, args.out, args.samples, args.split, npz=args.npz), st.name,
-               args.quiet)
+        report(write_study(st, args.out, args.samples, args.split, npz=args.npz,
+                           quiet=args.quiet), st.name, args.quiet)
     return 0
 
 
@@ -55,7 +55,7 @@ def check_out(out: Path) -> None:
 
 
 def write_study(st, out: Path, samples: int | None = None, split: bool = False,
-                npz: bool = False):
+                npz: bool = False, quiet: bool = False):
     """Run one study and write what its [outputs] asks for (and ``STUDY.npz`` with ``npz``);
     returns (result, paths)."""
     from ..outputs.results import write
@@ -65,13 +65,15 @@ def write_study(st, out: Path, samples: int | None = None, split: bool = False,
     o = st.outputs
     paths = write(result, out, split=split or o.split, csv=o.csv, plot=o.plot, npz=npz)
     if o.animation:
-        paths.append(animate_study(st, out / f"{st.name}.{o.animation}", o.frames))
+        paths.append(animate_study(st, out / f"{st.name}.{o.animation}", o.frames,
+                                   quiet=quiet))
     return result, paths
 
 
 def animate_study(st, path: Path, frames: int = 60, fps: float = 20.0, dpi: int = 80,
-                  figsize: tuple[float, float] = (5.6, 4.6)) -> Path:
-    """The study's mechanism moving, written to ``path`` (.gif or .mp4)."""
+                  figsize: tuple[float, float] = (5.6, 4.6), quiet: bool = False) -> Path:
+    """The study's mechanism moving, written to ``path`` (.gif or .mp4); a progress line
+    counts the frames on a terminal unless ``quiet``."""
     from ..model.description import load as load_description
     from ..outputs.animation import check_frames, write_animation, writer_for
     from ..study.run import motion_and_reference
@@ -83,9 +85,15 @@ def animate_study(st, path: Path, frames: int = 60, fps: float = 20.0, dpi: int 
     if desc_file is None:
         raise InputError(f"{robot.name}: no description at hand to draw it (its generated "
                          "folder has no description.toml)")
-    return write_animation(robot, load_description(desc_file), t, q, path,
-                           f"{st.name}: {st.title}", fps=fps, dpi=dpi, figsize=figsize,
-                           q_reference=q_ref)
+    from ..progress import Meter
+
+    meter = Meter(len(t), f"{st.name}: drawing {Path(path).name}", quiet=quiet)
+    try:
+        return write_animation(robot, load_description(desc_file), t, q, path,
+                               f"{st.name}: {st.title}", fps=fps, dpi=dpi, figsize=figsize,
+                               q_reference=q_ref, progress=meter)
+    finally:
+        meter.close()
 
 
 def report(done, name: str, quiet: bool) -> None:

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..progress import Meter
 
 
 def register(sub) -> None:
@@ -95,12 +96,14 @@ def run(args) -> int:
     vary = parse_vary(args.vary, args.random is not None)
     executor = _executor(args)
     start = time.perf_counter()
+    meter = Meter(0, f"{st.name}: designs", quiet=args.quiet)  # the sweep tells the count
     try:
         result = sweep(st, vary, sample="random" if args.random is not None else "grid",
                        count=args.random, seed=args.seed, executor=executor,
-                       workers=args.workers, on=args.on,
+                       workers=args.workers, on=args.on, progress=meter,
                        atlas={"points": args.atlas_points} if args.atlas else None)
     finally:
+        meter.close()
         if executor is not None:
             # a Dask client is closed, never shut down: Client.shutdown would stop the user's
             # scheduler and workers too

@@ -62,7 +62,7 @@ def check_frames(frames: int, dpi: int, figsize: tuple[float, float] = FIGSIZE) 
 def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, path: Path,
                     title: str, fps: float = 20.0, dpi: int = 80,
                     figsize: tuple[float, float] = FIGSIZE,
-                    q_reference: np.ndarray | None = None) -> Path:
+                    q_reference: np.ndarray | None = None, progress=None) -> Path:
     """Animate ``robot`` through the joint motion ``q`` into ``path``, whole or not at all.
 
     Parameters
@@ -85,6 +85,8 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
         Pixels per inch; the frame is ``figsize * dpi`` pixels.
     q_reference : ndarray, shape (frames, n), optional
         A second motion drawn faint behind the first (a controller's reference).
+    progress : callable, optional
+        Called with the number of frames drawn so far (``planar_sym.progress.Meter``).
     """
     from matplotlib.animation import FuncAnimation
 
@@ -94,10 +96,11 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
     fig, update = scene_figure(robot, desc, t, q, title, figsize, q_reference)
     with atomic_files([path]) as (tmp,):
         if path.suffix.lower() == ".gif":
-            _write_gif(tmp, blitted_frames(fig, update, len(t), dpi), fps)
+            _write_gif(tmp, blitted_frames(fig, update, len(t), dpi, progress), fps)
         else:  # ffmpeg takes matplotlib's route: a full render per frame
             anim = FuncAnimation(fig, update, frames=len(t), interval=1000.0 / fps, blit=False)
-            anim.save(tmp, writer=writer, dpi=dpi)
+            anim.save(tmp, writer=writer, dpi=dpi, progress_callback=None if progress is None
+                      else lambda k, _n: progress(k + 1))
     return path
 
 
@@ -141,9 +144,10 @@ def scene_figure(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, 
     return fig, update
 
 
-def blitted_frames(fig, update, count: int, dpi: int) -> list:
+def blitted_frames(fig, update, count: int, dpi: int, progress=None) -> list:
     """Each frame as an RGB image: the still parts of ``fig`` drawn once, then per frame only
-    the artists ``update(k)`` moves, over a copy of that background (matplotlib's blitting).
+    the artists ``update(k)`` moves, over a copy of that background (matplotlib's blitting);
+    ``progress(k)``, if given, after the k-th frame.
 
     ``Animation.save`` renders the whole figure per frame (axes, ticks, labels: 30 ms at 80
     dpi); this draws it once. The frames equal the full renders' pixel for pixel
@@ -175,6 +179,8 @@ def blitted_frames(fig, update, count: int, dpi: int) -> list:
             ax.draw_artist(artist)
         rgba = Image.frombuffer("RGBA", size, bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1)
         frames.append(rgba.convert("RGB"))
+        if progress is not None:
+            progress(k + 1)
     return frames
 
 
