@@ -1,0 +1,250 @@
+"""Optimal point-to-point moves by direct collocation: CasADi's Opti and IPOPT on the robot's
+generated functions (no SymPy at run time), rest to rest, for trees and closed chains.
+
+On ``N`` intervals of length ``h = T / N`` the accelerations are constant per interval, so the
+coordinates that are integrated move exactly as a double integrator's do:
+
+.. code:: text
+
+    q_{k+1} = q_k + h qd_k + h^2/2 qdd_k,   qd_{k+1} = qd_k + h qdd_k
+    tau = ID(q, qd, qdd_k) at both ends of interval k, within the limits; |qd_k| <= limits
+    minimise  T (objective "time")  or  h sum_k (|tau_k,start|^2 + |tau_k,end|^2) / 2
+    (objective "effort", T given: the trapezoid over each interval)
+
+Evaluating each interval at both ends matters: at one end only, an arm under gravity could
+"fall freely" through each sample (zero torque there, any torque between), and the effort
+problem has many spurious minima with accelerations of thousands of rad/s^2.
+
+A tree integrates every coordinate (a passive joint's torque is held at 0); a closed chain
+integrates its actuated coordinates, and its passive ones are unknowns held on the loops at
+every node (``Phi = 0``, ``Phi_q qd = 0``, ``Phi_q qdd = gamma`` from the generated
+closed-chain inverse dynamics). The torque limits hold at the nodes.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError, SimulationError
+from ..model.robot import Robot
+from ..motion.profiles import JointTrajectory
+
+OBJECTIVES = ("time", "effort")
+
+
+@dataclass(frozen=True)
+class OptimalMove:
+    """The solution: ``trajectory`` at the ``N + 1`` nodes (times ``t_s`` (N + 1,) in s;
+    ``q``, ``qd``, ``qdd`` each of shape (N + 1, n), ``qdd`` the interval's constant acceleration, the
+    last node repeating the last interval's), ``tau``
+    (N + 1, actuated) N*m (N at a slider) there (each interval's start; the last node: the
+    last interval's end), ``duration_s``, ``objective`` (s for "time",
+    N^2*m^2*s for "effort"), and IPOPT's report ``solver``: iterations, status, the largest
+    constraint violation and the solve time (s)."""
+
+    trajectory: JointTrajectory
+    tau: np.ndarray
+    duration_s: float
+    objective: float
+    solver: dict
+
+
+def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
+                 duration_s: float | None = None, torque_limit=None, speed_limit=None,
+                 intervals: int = 40) -> OptimalMove:
+    """The best rest-to-rest move from ``q_start`` to ``q_end`` (every coordinate of a tree;
+    a closed chain's actuated coordinates, or every one on the loops), rad (m at a slider).
+
+    ``objective``: "time" (needs ``torque_limit``) or "effort" (needs ``duration_s``);
+    ``torque_limit`` (actuated,) N*m (N), default the description's where it gives one;
+    ``speed_limit`` (n,) rad/s (m/s), optional; ``intervals``: the grid.
+
+    Raises InputError for a bad request, SimulationError when IPOPT finds no solution.
+    """
+    import casadi as ca
+
+    if objective not in OBJECTIVES:
+        raise InputError(f"objective must be one of {', '.join(OBJECTIVES)} (got {objective!r})")
+    if not isinstance(intervals, (int, np.integer)) or not 2 <= intervals <= 10_000:
+        raise InputError(f"intervals must be an integer from 2 to 10000 (got {intervals!r})")
+    n, act, closed = robot.n, list(robot.actuated), robot.is_closed_chain
+    lim = _limit(robot, torque_limit, required=objective == "time")
+    if objective == "effort" and (duration_s is None or not duration_s > 0):
+        raise InputError("objective \"effort\" needs duration_s > 0 (s)")
+    own = act if closed else list(range(n))  # the coordinates integrated
+    pas = [i for i in range(n) if i not in act]
+    a0, a1 = (_ends(robot, q, name, own) for q, name in ((q_start, "q_start"),
+                                                         (q_end, "q_end")))
+    N, p = int(intervals), ca.DM(robot.p)
+    opti = ca.Opti()
+    T = opti.variable() if objective == "time" else float(duration_s)
+    h = T / N
+    Qi, Vi = opti.variable(len(own), N + 1), opti.variable(len(own), N + 1)
+    Ai = opti.variable(len(own), N)
+    Qp = Vp = Ap = Ae = None
+    if closed:  # passive accelerations at both ends of each interval: on the loops at each
+        m = len(pas)
+        Qp, Vp = opti.variable(m, N + 1), opti.variable(m, N + 1)
+        Ap, Ae = opti.variable(m, N), opti.variable(m, N)
+
+    def full(own_part, pas_part):
+        rows = {i: own_part[k] for k, i in enumerate(own)}
+        rows.update({i: pas_part[k] for k, i in enumerate(pas)} if closed else {})
+        return ca.vertcat(*[rows[i] for i in range(n)])
+
+    opti.subject_to(Qi[:, 1:] == Qi[:, :-1] + h * Vi[:, :-1] + h**2 / 2 * Ai)
+    opti.subject_to(Vi[:, 1:] == Vi[:, :-1] + h * Ai)
+    opti.subject_to(Qi[:, 0] == a0)
+    opti.subject_to(Qi[:, N] == a1)
+    opti.subject_to(Vi[:, 0] == 0)
+    opti.subject_to(Vi[:, N] == 0)
+    f_id = robot.casadi_function("closed_inverse_dynamics" if closed else "inverse_dynamics")
+    v = None if speed_limit is None else _speed(robot, speed_limit)
+
+    def torque(node: int, k: int, end: bool):
+        """The actuated torques at ``node`` with interval ``k``'s accelerations (a closed
+        chain: its passive ones at that end, held on the loops there)."""
+        q = full(Qi[:, node], Qp[:, node] if closed else None)
+        qd = full(Vi[:, node], Vp[:, node] if closed else None)
+        qdd = full(Ai[:, k], (Ae if end else Ap)[:, k] if closed else None)
+        if closed:  # each node on the loops once (the last from the last interval's end)
+            tau, _, _, phi, phi_v, phi_a = f_id(q, qd, qdd, p)
+            once = not end or node == N
+            opti.subject_to((ca.vertcat(phi, phi_v, phi_a) if once else phi_a) == 0)
+        else:
+            every = f_id(q, qd, qdd, p)
+            tau = every[act]
+            if pas and not end:  # a passive joint of a tree: no torque there
+                opti.subject_to(every[pas] == 0)
+        if lim is not None:
+            opti.subject_to(opti.bounded(-lim, tau, lim))
+        if v is not None:
+            opti.subject_to(opti.bounded(-v, qd, v))
+        return tau
+
+    # each interval's torques at its start and its end (the same constant accelerations):
+    # the effort's trapezoid, and limits held at both ends
+    starts = [torque(k, k, False) for k in range(N)]
+    ends = [torque(k + 1, k, True) for k in range(N)]
+    taus = starts + ends[-1:]
+    if objective == "time":
+        opti.subject_to(T >= 1e-6)
+        opti.minimize(T)
+    else:
+        opti.minimize(h / 2 * (ca.sumsqr(ca.horzcat(*starts)) + ca.sumsqr(ca.horzcat(*ends))))
+    _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T,
+           duration_s)
+    opti.solver("ipopt", {"print_time": False},
+                {"print_level": 0, "sb": "yes", "tol": 1e-10, "max_iter": 3000})
+    start = time.perf_counter()
+    try:
+        sol = opti.solve()
+    except RuntimeError as exc:
+        stats = opti.stats()
+        raise SimulationError(f"{robot.name}: IPOPT found no optimal move "
+                              f"({stats.get('return_status', exc)}, {stats.get('iter_count')} "
+                              "iterations): loosen the limits, lengthen duration_s, or change "
+                              "the end points") from None
+    took = time.perf_counter() - start
+    g, lbg, ubg = (np.asarray(sol.value(x)).ravel() for x in (opti.g, opti.lbg, opti.ubg))
+    violation = float(max(np.max(lbg - g, initial=0.0), np.max(g - ubg, initial=0.0)))
+    duration = float(sol.value(T)) if objective == "time" else float(duration_s)
+    t = np.linspace(0.0, duration, N + 1)
+    q_all = np.zeros((N + 1, n))
+    qd_all, qdd_all = np.zeros_like(q_all), np.zeros_like(q_all)
+    for part, cols, nodes in ((Qi, own, q_all), (Vi, own, qd_all)):
+        nodes[:, cols] = np.asarray(sol.value(part)).reshape(len(cols), -1).T
+    acc = np.asarray(sol.value(Ai)).reshape(len(own), -1).T
+    qdd_all[:, own] = np.vstack([acc, acc[-1:]])
+    if closed:
+        q_all[:, pas] = np.asarray(sol.value(Qp)).reshape(len(pas), -1).T
+        qd_all[:, pas] = np.asarray(sol.value(Vp)).reshape(len(pas), -1).T
+        accp = np.asarray(sol.value(Ap)).reshape(len(pas), -1).T
+        last = np.asarray(sol.value(Ae[:, N - 1])).reshape(1, -1)
+        qdd_all[:, pas] = np.vstack([accp, last])
+    tau = np.asarray(sol.value(ca.horzcat(*taus))).reshape(len(act), -1).T
+    stats = sol.stats()
+    return OptimalMove(JointTrajectory(t, q_all, qd_all, qdd_all, "optimal (IPOPT)"), tau,
+                       duration, float(sol.value(opti.f)),
+                       {"iterations": int(stats["iter_count"]),
+                        "status": str(stats["return_status"]),
+                        "constraint_violation": violation, "solve_time_s": took})
+
+
+def _limit(robot: Robot, given, required: bool):
+    na = len(robot.actuated)
+    if given is None:
+        given = [a.get("torque_limit") for a in robot.actuators]
+        if any(v is None for v in given):
+            if required:
+                raise InputError(f"{robot.name}: objective \"time\" needs torque_limit (the "
+                                 "description gives none for every actuator): one per "
+                                 "actuated joint, N*m")
+            return None
+    lim = np.broadcast_to(np.asarray(given, dtype=float), (na,)).copy()
+    if not np.all(np.isfinite(lim)) or np.any(lim <= 0):
+        raise InputError(f"torque_limit must be positive and finite, got {lim.tolist()}")
+    return lim
+
+
+def _speed(robot: Robot, speed_limit) -> np.ndarray:
+    v = np.broadcast_to(np.asarray(speed_limit, dtype=float), (robot.n,))
+    if not np.all(v > 0):
+        raise InputError(f"speed_limit must be positive, got {v.tolist()}")
+    return v
+
+
+def _ends(robot: Robot, q, name: str, own: list[int]) -> np.ndarray:
+    """The integrated coordinates of an end state given as them or as every coordinate."""
+    arr = np.asarray(q, dtype=float).ravel()
+    if len(arr) == robot.n:
+        if robot.is_closed_chain and np.abs(robot.constraint(arr)).max() > 1e-9:
+            raise InputError(f"{name} is off {robot.name}'s loops (|Phi| = "
+                             f"{np.abs(robot.constraint(arr)).max():.3g} m): give the actuated "
+                             "coordinates, or a pose on the loops")
+        arr = arr[own]
+    if len(arr) != len(own) or not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} must be {len(own)} finite values (the "
+                         f"{'actuated' if robot.is_closed_chain else 'every'} coordinates of "
+                         f"{robot.name}) or {robot.n}, got {np.asarray(q).tolist()}")
+    return arr
+
+
+def _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, Ap, T, duration_s
+           ) -> None:
+    """A cubic rest-to-rest move between the ends over the duration (1 s when the time is
+    free), its rates and its accelerations at the intervals' midpoints; a closed chain's
+    passive joints from its loops (``initial_guess`` gives the same for the integrated ones)."""
+    t, q, qd, qdd = initial_guess(a0, a1, N, 1.0 if duration_s is None else duration_s)
+    opti.set_initial(Qi, q.T)
+    opti.set_initial(Vi, qd.T)
+    opti.set_initial(Ai, qdd.T)
+    if closed:
+        from ..motion.closure import from_actuated
+
+        mid = np.vstack([qdd, qdd[-1:]])
+        jt = from_actuated(robot, t, q, qd, mid)
+        opti.set_initial(Qp, jt.q[:, pas].T)
+        opti.set_initial(Vp, jt.qd[:, pas].T)
+        for var in Ap:
+            opti.set_initial(var, jt.qdd[:-1, pas].T)
+    if duration_s is None:
+        opti.set_initial(T, 1.0)
+
+
+def initial_guess(a0, a1, intervals: int, duration_s: float):
+    """The cubic rest-to-rest move from ``a0`` to ``a1`` in ``duration_s`` on ``intervals``:
+    node times (N + 1,), positions and rates (N + 1, k) and the interval accelerations (N, k),
+    each the cubic's at the interval's midpoint (rad, rad/s, rad/s^2; m at a slider)."""
+    a0, a1 = np.asarray(a0, float), np.asarray(a1, float)
+    t = np.linspace(0.0, duration_s, intervals + 1)
+    s = t / duration_s
+    mid = (s[:-1] + s[1:]) / 2
+    d = (a1 - a0)[None, :]
+    q = a0[None, :] + (3 * s**2 - 2 * s**3)[:, None] * d
+    qd = ((6 * s - 6 * s**2) / duration_s)[:, None] * d
+    qdd = ((6 - 12 * mid) / duration_s**2)[:, None] * d
+    return t, q, qd, qdd

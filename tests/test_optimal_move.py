@@ -1,0 +1,152 @@
+"""Optimal point-to-point moves (issue 27, item 2), against independent references: the
+double integrator's closed-form bang-bang time, the same discretised effort problem solved by
+SciPy's SLSQP from its own shooting formulation, the time-optimal timing of one particular
+path (a free path can only be faster), and the generated inverse dynamics re-run on the
+solution."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize
+
+import planar_sym as ps
+from planar_sym.errors import InputError
+from planar_sym.optimal.point_to_point import initial_guess
+
+RAIL = """name = "rail_cart"
+title = "A cart on a level rail: a double integrator"
+gravity = [0.0, -9.81]
+[units]
+length = "m"
+mass = "kg"
+acceleration = "m/s^2"
+[ground]
+points = { rail = [0.0, 0.0] }
+[[bodies]]
+name = "cart"
+mass = 2.0
+mass_at = "C"
+points = { C = [0.0, 0.0] }
+[[joints]]
+name = "slide"
+type = "prismatic"
+parent = "ground.rail"
+child = "cart.C"
+actuated = true
+axis = [1.0, 0.0]
+"""
+
+
+def test_double_integrator_is_the_closed_form_bang_bang(tmp_path):
+    """2 kg over 0.5 m with |F| <= 4 N: T = 2 sqrt(d m / F) = 1 s, F = +4 N then -4 N."""
+    path = tmp_path / "rail_cart.toml"
+    path.write_text(RAIL)
+    cart = ps.load(path)
+    move = ps.optimal_move(cart, [0.0], [0.5], objective="time", torque_limit=[4.0],
+                           intervals=20)
+    assert move.duration_s == pytest.approx(2 * np.sqrt(0.5 * 2.0 / 4.0), rel=1e-6)
+    assert move.tau[:10, 0] == pytest.approx(np.full(10, 4.0), rel=1e-6)
+    assert move.tau[10:, 0] == pytest.approx(np.full(11, -4.0), rel=1e-6)
+    assert move.solver["status"] == "Solve_Succeeded" and move.solver["iterations"] > 0
+    # every node on the closed form: x = a t^2 / 2, then mirrored (a = F / m = 2 m/s^2)
+    t = move.trajectory.t_s
+    x = np.where(t <= 0.5, t**2, 0.5 - (1.0 - t) ** 2)
+    assert np.abs(move.trajectory.q[:, 0] - x).max() <= 1e-6
+
+
+def _shooting_effort(arm, q0, q1, duration, n_int):
+    """The same discretised problem by single shooting: unknowns the interval accelerations,
+    positions and rates propagated exactly, the end state as equality constraints (SLSQP),
+    from the same cubic start."""
+    n, h = arm.n, duration / n_int
+
+    def roll(a):
+        a = a.reshape(n_int, n)
+        q, qd = [np.asarray(q0, float)], [np.zeros(n)]
+        for k in range(n_int):
+            q.append(q[-1] + h * qd[-1] + h * h / 2 * a[k])
+            qd.append(qd[-1] + h * a[k])
+        return np.array(q), np.array(qd), a
+
+    def effort(a):  # each interval's torques at both its ends, its accelerations
+        q, qd, acc = roll(a)
+        return h / 2 * (np.sum(arm.inverse_dynamics(q[:-1], qd[:-1], acc) ** 2)
+                        + np.sum(arm.inverse_dynamics(q[1:], qd[1:], acc) ** 2))
+
+    def ends(a):
+        q, qd, _ = roll(a)
+        return np.concatenate([q[-1] - q1, qd[-1]])
+
+    scale = 1e3  # the effort is about 2e-3 N^2*m^2*s: scaled, SLSQP's tolerance means something
+    start = initial_guess(np.asarray(q0)[:n], np.asarray(q1)[:n], n_int, duration)[3]
+    res = minimize(lambda a: scale * effort(a), start.ravel(), method="SLSQP",
+                   constraints={"type": "eq", "fun": ends},
+                   options={"maxiter": 1000, "ftol": 1e-13})
+    assert res.success, res.message
+    return res.fun / scale
+
+
+def test_minimum_effort_equals_an_independent_shooting_solution():
+    """In the horizontal plane (no gravity). Under gravity the effort problem has several
+    local minima (a light arm hurries to a pose where gravity costs little torque and waits
+    there, in more than one way), and two solvers may well stop at different ones."""
+    arm = ps.load("tests/robots/horizontal_2dof.toml")
+    q0, q1 = [0.0, np.pi / 2], [np.pi / 3, np.pi / 4]
+    move = ps.optimal_move(arm, q0, q1, objective="effort", duration_s=1.0, intervals=10)
+    theirs = _shooting_effort(arm, q0, q1, 1.0, 10)
+    assert move.objective == pytest.approx(theirs, rel=1e-6)
+    # the objective is what the generated inverse dynamics says of the solution
+    jt = move.trajectory
+    tau = arm.inverse_dynamics(jt.q, jt.qd, jt.qdd)
+    assert np.abs(tau - move.tau).max() <= 1e-9 * np.abs(tau).max()
+    ends = arm.inverse_dynamics(jt.q[1:], jt.qd[1:], jt.qdd[:-1])
+    assert move.objective == pytest.approx(0.05 * (np.sum(tau[:-1] ** 2) + np.sum(ends ** 2)),
+                                           rel=1e-9)
+    longer = ps.optimal_move(arm, q0, q1, objective="effort", duration_s=1.5, intervals=10)
+    assert longer.objective < move.objective  # more time, less effort
+
+
+def test_fastest_move_beats_the_fastest_timing_of_one_path_and_holds_its_limits():
+    """A free path is at least as fast as the straight joint line timed optimally, on the
+    2-DOF arm and on the 5-bar (whose passive joints stay on the loops at every node)."""
+    arm = ps.load("serial_2dof")
+    q0, q1, lim = np.array([0.0, np.pi / 2]), np.array([np.pi / 3, np.pi / 4]), [0.5, 0.1]
+    move = ps.optimal_move(arm, q0, q1, objective="time", torque_limit=lim, intervals=40)
+    s = np.linspace(0.0, 1.0, 101)
+    line = ps.time_optimal(arm, type(move.trajectory)(s, q0 + s[:, None] * (q1 - q0),
+                                                      np.tile(q1 - q0, (101, 1)),
+                                                      np.zeros((101, 2))), lim)
+    assert move.duration_s < line.duration_s  # seen: 0.256 s against 0.36
+    jt = move.trajectory
+    tau = arm.inverse_dynamics(jt.q, jt.qd, jt.qdd)
+    assert np.all(np.abs(tau) <= np.asarray(lim) * (1 + 1e-6))
+
+    fb = ps.load("five_bar_type1")
+    t = np.linspace(0.0, 2.0, 201)
+    s5 = ps.inverse_kinematics(fb, ps.cubic([0.060852, 0.154665], [0.05, 0.0], 2.0, t))
+    move = ps.optimal_move(fb, s5.q[0], s5.q[-1], objective="time", torque_limit=[0.1, 0.1],
+                           intervals=30)
+    assert move.duration_s < ps.time_optimal(fb, s5, [0.1, 0.1]).duration_s
+    jt = move.trajectory
+    assert np.abs(fb.constraint(jt.q)).max() < 1e-9
+    tau, _ = fb.closed_chain_inverse_dynamics(jt.q[:-1], jt.qd[:-1], jt.qdd[:-1])
+    assert np.abs(tau - move.tau[:-1]).max() <= 1e-9
+    assert np.all(np.abs(move.tau) <= 0.1 * (1 + 1e-6))
+
+
+def test_refusals_name_the_mistake():
+    arm = ps.load("serial_2dof")
+    with pytest.raises(InputError, match="objective must be one of time, effort"):
+        ps.optimal_move(arm, [0, 0], [1, 1], objective="fastest")
+    with pytest.raises(InputError, match="needs duration_s"):
+        ps.optimal_move(arm, [0, 0], [1, 1], objective="effort")
+    with pytest.raises(InputError, match="needs torque_limit"):
+        ps.optimal_move(arm, [0, 0], [1, 1], objective="time")
+    with pytest.raises(InputError, match="intervals must be an integer from 2"):
+        ps.optimal_move(arm, [0, 0], [1, 1], duration_s=1.0, intervals=1)
+    with pytest.raises(InputError, match=r"q_end must be 2 finite values"):
+        ps.optimal_move(arm, [0, 0], [1, 1, 1], duration_s=1.0)
+    fb = ps.load("five_bar_type1")
+    with pytest.raises(InputError, match="q_start is off five_bar_type1's loops"):
+        ps.optimal_move(fb, np.zeros(4), [0.0, 0.0], duration_s=1.0)
