@@ -267,14 +267,15 @@ def test_linearize_names_the_bad_input(kwargs, message):
     assert str(err.value) == message
 
 
-def test_linearize_refuses_a_closed_chain_by_name():
+def test_linearize_refuses_a_closed_chain_off_its_loops_by_name():
     import planar_sym as ps
 
     robot = ps.load("five_bar_type1")
     with pytest.raises(InputError) as err:
-        ps.linearize(robot, robot.q_drawn)
-    assert str(err.value) == ("five_bar_type1 is a closed chain: its linearisation needs its "
-                              "independent coordinates, which linearize does not do yet")
+        ps.linearize(robot, np.asarray(robot.q_drawn) + [0.0, 0.1, 0.0, 0.0])
+    assert str(err.value).startswith("q is off five_bar_type1's loops (|Phi| = ")
+    assert str(err.value).endswith("m): give a pose on the loops, or its actuated "
+                                   "coordinates only")
 
 
 def test_state_space_names_its_states_inputs_and_outputs():

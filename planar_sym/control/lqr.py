@@ -6,8 +6,9 @@ continuous-time algebraic Riccati solver:
 
     A^T P + P A - P B R^-1 B^T P + Q = 0,   K = R^-1 B^T P,   u = u_ref + K (x_ref - x)
 
-``x = (q, qd)`` holds every coordinate, passive ones included, so an underactuated robot (a
-cart-pole's free pole) is stabilised through its motors. The law runs in the compiled loop
+``x = (q, qd)`` holds every coordinate of a tree, passive ones included, so an underactuated
+robot (a cart-pole's free pole) is stabilised through its motors; a closed chain's holds its
+actuated coordinates (the loops set the others). The law runs in the compiled loop
 (``simulate_controlled``, controller kind "lqr").
 """
 
@@ -38,8 +39,11 @@ class LQR:
         """The law for ``simulate_controlled``: tau = u_ref + K (x_ref - x), clipped at the
         description's actuator limits when ``saturate``."""
         lin = self.linearization
-        return Controller("lqr", saturate=bool(saturate),
-                          gain=tuple(self.gain.ravel().tolist()),
+        n, cols = len(lin.q), list(lin.coordinates)
+        gain = np.zeros((self.gain.shape[0], 2 * n))  # over every coordinate: a closed
+        gain[:, cols] = self.gain[:, :len(cols)]      # chain's passive ones get no feedback
+        gain[:, [n + c for c in cols]] = self.gain[:, len(cols):]
+        return Controller("lqr", saturate=bool(saturate), gain=tuple(gain.ravel().tolist()),
                           x_ref=tuple(np.concatenate([lin.q, lin.qd]).tolist()),
                           u_ref=tuple(lin.tau.tolist()))
 

@@ -165,10 +165,9 @@ def check_controller(robot: Robot, ctl: Controller) -> None:
         raise InputError(f"{robot.name}: control of a closed chain needs as many passive "
                          f"coordinates ({robot.n - len(robot.actuated)}) as loop equations "
                          f"({robot.n_constraints})")
-    if ctl.kind == "lqr" and (robot.is_closed_chain
-                              or len(ctl.gain) != 2 * robot.n * len(robot.actuated)):
+    if ctl.kind == "lqr" and len(ctl.gain) != 2 * robot.n * len(robot.actuated):
         raise InputError(f"{robot.name}: this LQR law was designed for another robot (make "
-                         "it with planar_sym.lqr on this one; closed chains: not yet)")
+                         "it with planar_sym.lqr on this one)")
     for k in (ctl.kp, ctl.kd):
         if k and len(k) not in (1, len(robot.actuated)):
             raise InputError(f"{robot.name}: {len(k)} gains for {len(robot.actuated)} "

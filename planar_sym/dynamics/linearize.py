@@ -8,8 +8,16 @@
 
 For a tree, ``dqdd/dq`` and ``dqdd/dqd`` come from the generated Jacobian of the forward
 dynamics (exact derivatives of the same expressions, rotors and smoothed friction included),
-``M`` from the mass matrix; ``S`` picks the actuated coordinates. A closed chain would need its
-independent coordinates; it is refused with that reason.
+``M`` from the mass matrix; ``S`` picks the actuated coordinates.
+
+A closed chain is linearised in its independent coordinates, the actuated ones (x = (q_a,
+qd_a)): CasADi differentiates, exactly, the chain of the generated functions
+
+.. code:: text
+
+    q_p(q_a) from Phi(q) = 0 (a rootfinder: derivatives by the implicit function theorem),
+    qd_p = -Phi_p^-1 Phi_a qd_a,
+    [M  -Phi_q^T; Phi_q  0] [qdd; lambda] = [S tau - h; gamma],   qdd_a its actuated rows
 """
 
 from __future__ import annotations
@@ -28,7 +36,9 @@ class Linearization:
     """``a`` (2n, 2n) in 1/s and 1/s^2 (per unit of each state: rad, rad/s; m, m/s at a
     slider), ``b`` (2n, actuated) in rad/s^2 per N*m (m/s^2 per N); the point: ``q`` (n,),
     ``qd`` (n,), ``tau`` (actuated,) and the acceleration there ``qdd`` (n,), zero at an
-    equilibrium; ``states`` and ``inputs`` name the columns with their units."""
+    equilibrium; ``states`` and ``inputs`` name the columns with their units; ``coordinates``
+    the coordinates (0-based) the state holds. A closed chain's state is its actuated
+    coordinates and their rates: 2n is then twice their number."""
 
     a: np.ndarray
     b: np.ndarray
@@ -38,6 +48,9 @@ class Linearization:
     qdd: np.ndarray
     states: tuple[str, ...]
     inputs: tuple[str, ...]
+    #: the coordinates the state holds (0-based): every one of a tree, a closed chain's
+    #: actuated ones (its passive ones follow from the loops)
+    coordinates: tuple[int, ...] = ()
 
     def state_space(self):
         """The system as a python-control ``StateSpace`` (every state measured); needs the
@@ -59,12 +72,15 @@ def linearize(robot: Robot, q, qd=None, tau=None) -> Linearization:
     torques that hold the actuated joints still there (the gravity torques at rest), so an
     upright pendulum or a balanced cart-pole is an equilibrium (``qdd`` all zero).
 
-    Raises InputError for a closed chain, a bad shape or a non-finite value.
+    A closed chain's ``q`` and ``qd`` are every coordinate, on its loops (or its actuated ones
+    only: the loops give the others, from the drawn assembly mode).
+
+    Raises InputError for a bad shape, a non-finite value or a closed chain's state off its
+    loops.
     """
-    if robot.is_closed_chain:
-        raise InputError(f"{robot.name} is a closed chain: its linearisation needs its "
-                         "independent coordinates, which linearize does not do yet")
     n, act = robot.n, list(robot.actuated)
+    if robot.is_closed_chain:
+        return _closed(robot, q, qd, tau)
     q0 = as_vector("q", q, n)
     qd0 = np.zeros(n) if qd is None else as_vector("qd", qd, n)
     full = np.zeros(n)
@@ -82,4 +98,66 @@ def linearize(robot: Robot, q, qd=None, tau=None) -> Linearization:
     states = tuple(f"{c} ({u})" for c, u in zip(robot.coordinates, units)) + tuple(
         f"{c}_rate ({u}/s)" for c, u in zip(robot.coordinates, units))
     inputs = tuple(f"{robot.coordinates[i]} ({'N' if units[i] == 'm' else 'N*m'})" for i in act)
-    return Linearization(a, b, q0, qd0, full[act], qdd, states, inputs)
+    return Linearization(a, b, q0, qd0, full[act], qdd, states, inputs, tuple(range(n)))
+
+
+def _closed(robot: Robot, q, qd, tau) -> Linearization:
+    """A closed chain in its actuated coordinates (module docstring)."""
+    import casadi as ca
+
+    from ..motion.closure import complete_rates, complete_state
+
+    n, act, pas = robot.n, list(robot.actuated), list(robot.passive)
+    na, m = len(act), len(pas)
+    if robot.n_constraints != m:
+        raise InputError(f"{robot.name}: linearize needs as many passive coordinates as loop "
+                         f"equations ({m} against {robot.n_constraints})")
+    q_in = np.asarray(q, dtype=float).ravel()
+    qd_in = None if qd is None else np.asarray(qd, dtype=float).ravel()
+    q_act = as_vector("q", q_in[act] if len(q_in) == n else q_in, na)
+    qd_act = (np.zeros(na) if qd_in is None else
+              as_vector("qd", qd_in[act] if len(qd_in) == n else qd_in, na))
+    guess = q_in if len(q_in) == n else None
+    if guess is not None and np.abs(robot.constraint(guess)).max() > 1e-9:
+        raise InputError(f"q is off {robot.name}'s loops (|Phi| = "
+                         f"{np.abs(robot.constraint(guess)).max():.3g} m): give a pose on the "
+                         "loops, or its actuated coordinates only")
+    q0, qd0 = complete_state(robot, q_act, qd_act, guess)
+    p = ca.DM(robot.p)
+    f = {k: robot.casadi_function(k) for k in ("mass_matrix", "bias", "constraint",
+                                               "constraint_jacobian", "constraint_bias")}
+
+    def whole(a_part, p_part):
+        rows = dict(zip(act, ca.vertsplit(a_part))) | dict(zip(pas, ca.vertsplit(p_part)))
+        return ca.vertcat(*[rows[i] for i in range(n)])
+
+    qa, qda, ta = ca.MX.sym("qa", na), ca.MX.sym("qda", na), ca.MX.sym("ta", na)
+    qp_sym = ca.MX.sym("qp", m)
+    loops = ca.Function("loops", [qp_sym, qa], [f["constraint"](whole(qa, qp_sym), p)])
+    qp = ca.rootfinder("passive", "newton", loops, {"abstol": 1e-14})(ca.DM(q0[pas]), qa)
+    qq = whole(qa, qp)
+    jac = f["constraint_jacobian"](qq, p)
+    qdp = -ca.solve(jac[:, pas], ca.mtimes(jac[:, act], qda))
+    qqd = whole(qda, qdp)
+    tau_full = whole(ta, ca.MX.zeros(m))
+    kkt = ca.blockcat([[f["mass_matrix"](qq, p), -jac.T], [jac, ca.MX.zeros(m, m)]])
+    rhs = ca.vertcat(tau_full - f["bias"](qq, qqd, p), f["constraint_bias"](qq, qqd, p))
+    qdd_a = ca.solve(kkt, rhs)[act]
+    x = ca.vertcat(qa, qda)
+    lin = ca.Function("lin", [qa, qda, ta], [qdd_a, ca.jacobian(qdd_a, x),
+                                             ca.jacobian(qdd_a, ta)])
+    if tau is None:  # the torques that hold the actuated joints still here (qdd_a = 0)
+        _, still = complete_rates(robot, q0[None], qd_act[None], np.zeros((1, na)))
+        tau0 = robot.closed_chain_inverse_dynamics(q0[None], qd0[None], still)[0][0]
+    else:
+        tau0 = as_vector("tau", tau, na)
+    qdd_a0, dx, du = (np.asarray(v) for v in lin(q_act, qd_act, tau0))
+    a = np.block([[np.zeros((na, na)), np.eye(na)], [dx]])
+    b = np.vstack([np.zeros((na, na)), du])
+    _, qdd0 = complete_rates(robot, q0[None], qd_act[None], qdd_a0.reshape(1, -1))
+    units = robot.coordinate_units
+    names = [robot.coordinates[i] for i in act]
+    states = tuple(f"{names[k]} ({units[i]})" for k, i in enumerate(act)) + tuple(
+        f"{names[k]}_rate ({units[i]}/s)" for k, i in enumerate(act))
+    inputs = tuple(f"{names[k]} ({'N' if units[i] == 'm' else 'N*m'})" for k, i in enumerate(act))
+    return Linearization(a, b, q0, qd0, tau0, qdd0[0], states, inputs, tuple(act))
