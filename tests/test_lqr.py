@@ -214,3 +214,45 @@ def test_lqr_holds_a_closed_chain_and_its_small_motion_is_the_linear_models():
     assert np.abs(dev - x_lin[:, :2]).max() < 5e-3 * 0.01  # second order: seen 1.8e-5 rad
     assert np.abs(dev[-1]).max() < 1e-8  # settled (poles -10 to -38 1/s): seen 3e-11 rad
     assert np.abs(fb.constraint(run.q)).max() < 1e-8
+
+
+def test_closed_chain_state_by_its_motors_or_in_another_assembly_mode():
+    """Given by its actuated coordinates only, a closed chain's state is the drawn assembly
+    mode's, as given in full; a pose in the other mode is kept (its A differs); the state and
+    input names are the motors'; a wrong-length torque is named."""
+    from planar_sym.motion.closure import solve_passive
+
+    fb = ps.load("five_bar_type1")
+    q0, act = np.asarray(fb.q_drawn), list(fb.actuated)
+    full = ps.linearize(fb, q0, qd=np.zeros(4))
+    short = ps.linearize(fb, q0[act], qd=np.zeros(2))
+    assert np.array_equal(short.a, full.a) and np.array_equal(short.q, full.q)
+    assert full.states == ("A (rad)", "E (rad)", "A_rate (rad/s)", "E_rate (rad/s)")
+    assert full.inputs == ("A (N*m)", "E (N*m)")
+    guess = q0.copy()
+    guess[list(fb.passive)] += [2.0, -2.0]
+    other = solve_passive(fb, q0[act][None], guess)[0]  # elbows the other way round
+    flipped = ps.linearize(fb, other)
+    assert np.abs(flipped.q - other).max() < 1e-12 and np.abs(flipped.q - q0).max() > 1.0
+    assert np.abs(flipped.a - full.a).max() > 1.0
+    with pytest.raises(InputError, match=r"tau must have shape \(N, 2\) or \(2,\)"):
+        ps.linearize(fb, q0, tau=[0.1, 0.2, 0.3])
+
+
+def test_closed_chain_driven_by_a_slider_and_its_refusals_name_the_array():
+    """The slider-driven slider-crank: its state is the slider's (m, m/s), its input a force
+    (N), and B is 1 / (the effective mass the slider drives) there; bad arrays are named."""
+    sc = ps.load("slider_crank_slider_driven")
+    lin = ps.linearize(sc, sc.q_drawn)
+    assert lin.states == ("slide (m)", "slide_rate (m/s)") and lin.inputs == ("slide (N)",)
+    from planar_sym.motion.closure import complete_rates
+
+    q = lin.q[None]  # the effective mass: the closed-chain force for a unit slider acceleration
+    _, unit = complete_rates(sc, q, np.zeros((1, 1)), np.ones((1, 1)))
+    f1 = sc.closed_chain_inverse_dynamics(q, np.zeros((1, 3)), unit)[0][0, 0]
+    f0 = sc.closed_chain_inverse_dynamics(q, np.zeros((1, 3)), np.zeros((1, 3)))[0][0, 0]
+    assert lin.b[1, 0] == pytest.approx(1.0 / (f1 - f0), rel=1e-9)
+    with pytest.raises(InputError, match=r"^q\[0, 0\] is nan"):
+        ps.linearize(sc, [np.nan])
+    with pytest.raises(InputError, match=r"^qd must have shape \(N, 1\) or \(1,\)"):
+        ps.linearize(sc, sc.q_drawn, qd=[0.0, 0.0])
