@@ -179,3 +179,18 @@ def test_optimise_table_is_checked_with_the_study(tmp_path):
     _, t, q, _ = motion_and_reference(st, 12)
     assert len(t) == 12 and np.allclose(np.diff(t), t[-1] / 11) and t[-1] < 0.4
     assert q[0] == pytest.approx([0.0, np.pi / 2]) and q.shape == (12, 2)
+
+
+def test_timing_is_consistent_sample_to_sample():
+    """sdot^2 grows by 2 ds sddot over each step, sddot read back from the returned motion
+    (qdd = q_s sddot + q_ss sdot^2 on the arc-length path), to the last sample."""
+    for robot, path, lim in ((*_s3(), [0.5, 0.1]), (*_s5(), [0.1, 0.1])):
+        res = ps.time_optimal(robot, path, lim)
+        s, _, q_s, q_ss = arc_length_path(robot, path)
+        x = res.sdot**2
+        jt = res.trajectory
+        u = np.array([np.linalg.lstsq(q_s[i][:, None], jt.qdd[i] - q_ss[i] * x[i],
+                                      rcond=None)[0][0] for i in range(len(s))])
+        steps = x[1:] - x[:-1] - 2 * np.diff(s) * u[:-1]
+        assert np.abs(steps).max() <= 1e-9 * x.max()
+        assert u[-2] < 0 and res.on_limit[-2]  # braking into rest at the end, on a limit
