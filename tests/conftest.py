@@ -36,6 +36,22 @@ PRISMATIC_ROBOTS = ("parallel_3rpr", "serial_rpr", "slider_crank", "slider_crank
 BUILTIN_ROBOTS = ALL_ROBOTS + PRISMATIC_ROBOTS
 
 
+#: run a module as `python -m` does, with SIGINT at Python's default handler whatever the test
+#: process's disposition is by then: under pytest-xdist a worker runs many tests, and one that
+#: leaves SIGINT ignored would make an interrupted child run to its end (seen once: a 60 s
+#: timeout). Not preexec_fn, which is unsafe with threads.
+_INTERRUPTIBLE = ("import runpy, signal, sys; signal.signal(signal.SIGINT, "
+                  "signal.default_int_handler); sys.argv = sys.argv[1:]; "
+                  "runpy.run_module(sys.argv[0], run_name='__main__', alter_sys=True)")
+
+
+def interruptible(module: str, *args: str) -> list[str]:
+    """The command line of ``python -m module args...`` that Ctrl-C (SIGINT) interrupts."""
+    import sys
+
+    return [sys.executable, "-c", _INTERRUPTIBLE, module, *args]
+
+
 def rel_err(actual, reference, floor: float = 1e-300) -> float:
     """Worst per-sample normwise relative error; arrays shaped (N, ...) or (N,)."""
     a = np.asarray(actual, dtype=float)

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import interruptible
 
 from planar_sym.cli import main
 
@@ -98,8 +99,8 @@ def test_closed_pipe_is_quiet():
 
 def test_ctrl_c_ends_with_one_line_130_and_no_partial_file(tmp_path):
     out = tmp_path / "res"
-    proc = subprocess.Popen([sys.executable, "-m", "planar_sym", "demo", "--out", str(out),
-                             "--frames", "200"], cwd=tmp_path, env=_env(),
+    proc = subprocess.Popen(interruptible("planar_sym", "demo", "--out", str(out), "--frames",
+                                          "200"), cwd=tmp_path, env=_env(),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
     while not (out.is_dir() and any(out.iterdir())) and time.monotonic() < deadline:

@@ -38,6 +38,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+from conftest import interruptible
 
 from planar_sym.model.library import Library
 
@@ -123,7 +124,7 @@ def _hidden(gen: Path) -> list[str]:
                          ids=["kill-after-first-folder", "int-after-first-folder"])
 def test_interrupted_after_the_first_folder(tmp_path, sig):
     gen = old_copy(tmp_path)
-    proc = subprocess.Popen([sys.executable, "-m", "derive", "--out", str(gen)], cwd=ROOT,
+    proc = subprocess.Popen(interruptible("derive", "--out", str(gen)), cwd=ROOT,
                             env=_env(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                             text=True)
     for line in proc.stderr:  # "wrote <folder>/ (...)" after each folder swap
