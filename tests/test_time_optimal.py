@@ -194,3 +194,18 @@ def test_timing_is_consistent_sample_to_sample():
         steps = x[1:] - x[:-1] - 2 * np.diff(s) * u[:-1]
         assert np.abs(steps).max() <= 1e-9 * x.max()
         assert u[-2] < 0 and res.on_limit[-2]  # braking into rest at the end, on a limit
+
+
+def test_a_limit_of_the_wrong_length_is_named():
+    """A student's three limits for two motors: InputError naming the option, not NumPy's
+    broadcast message (the same rule for time_optimal and optimal_move)."""
+    arm, path = _s3()
+    with pytest.raises(InputError, match=r"torque_limit must be one number or 2, one per "
+                                         r"actuated joint \(got \[0.5, 0.1, 0.2\]\)"):
+        ps.time_optimal(arm, path, [0.5, 0.1, 0.2])
+    with pytest.raises(InputError, match=r"speed_limit must be one number or 2, one per "
+                                         "coordinate"):
+        ps.optimal_move(arm, [0, 0], [1, 1], objective="time", torque_limit=1.0,
+                        speed_limit=[1.0, 2.0, 3.0])
+    with pytest.raises(InputError, match="torque_limit must be one number or 2"):
+        ps.time_optimal(arm, path, "half a newton metre")

@@ -31,6 +31,7 @@ import numpy as np
 from ..errors import InputError, SimulationError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
+from .limits import speed_limits, torque_limits
 
 OBJECTIVES = ("time", "effort")
 
@@ -71,7 +72,9 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     if not isinstance(intervals, (int, np.integer)) or not 2 <= intervals <= 10_000:
         raise InputError(f"intervals must be an integer from 2 to 10000 (got {intervals!r})")
     n, act, closed = robot.n, list(robot.actuated), robot.is_closed_chain
-    lim = _limit(robot, torque_limit, required=objective == "time")
+    lim = torque_limits(robot, torque_limit, (
+        f"{robot.name}: objective \"time\" needs torque_limit (the description gives none for "
+        "every actuator): one per actuated joint, N*m") if objective == "time" else None)
     if objective == "effort" and (duration_s is None or not duration_s > 0):
         raise InputError("objective \"effort\" needs duration_s > 0 (s)")
     own = act if closed else list(range(n))  # the coordinates integrated
@@ -102,7 +105,7 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     opti.subject_to(Vi[:, 0] == 0)
     opti.subject_to(Vi[:, N] == 0)
     f_id = robot.casadi_function("closed_inverse_dynamics" if closed else "inverse_dynamics")
-    v = None if speed_limit is None else _speed(robot, speed_limit)
+    v = None if speed_limit is None else speed_limits(robot, speed_limit)
 
     def torque(node: int, k: int, end: bool):
         """The actuated torques at ``node`` with interval ``k``'s accelerations (a closed
@@ -172,29 +175,6 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
                        {"iterations": int(stats["iter_count"]),
                         "status": str(stats["return_status"]),
                         "constraint_violation": violation, "solve_time_s": took})
-
-
-def _limit(robot: Robot, given, required: bool):
-    na = len(robot.actuated)
-    if given is None:
-        given = [a.get("torque_limit") for a in robot.actuators]
-        if any(v is None for v in given):
-            if required:
-                raise InputError(f"{robot.name}: objective \"time\" needs torque_limit (the "
-                                 "description gives none for every actuator): one per "
-                                 "actuated joint, N*m")
-            return None
-    lim = np.broadcast_to(np.asarray(given, dtype=float), (na,)).copy()
-    if not np.all(np.isfinite(lim)) or np.any(lim <= 0):
-        raise InputError(f"torque_limit must be positive and finite, got {lim.tolist()}")
-    return lim
-
-
-def _speed(robot: Robot, speed_limit) -> np.ndarray:
-    v = np.broadcast_to(np.asarray(speed_limit, dtype=float), (robot.n,))
-    if not np.all(v > 0):
-        raise InputError(f"speed_limit must be positive, got {v.tolist()}")
-    return v
 
 
 def _ends(robot: Robot, q, name: str, own: list[int]) -> np.ndarray:

@@ -25,6 +25,7 @@ import numpy as np
 from ..errors import InputError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
+from .limits import speed_limits, torque_limits
 
 #: slack on a constraint at a vertex of a linear program (relative to its right-hand side)
 TOL = 1e-9
@@ -67,7 +68,9 @@ def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
         raise InputError(f"{robot.name}: a passive joint of a tree does not follow a path "
                          "(underactuated): time_optimal takes fully actuated trees and "
                          "closed chains")
-    lim = _limits(robot, torque_limit)
+    lim = torque_limits(robot, torque_limit, (
+        f"{robot.name}: torque_limit is needed (the description gives no torque_limit for "
+        "every actuator): one per actuated joint, N*m"))
     s, q, q_s, q_ss = arc_length_path(robot, path)
     zero = np.zeros_like(q)
     c = _torques(robot, q, zero, zero)
@@ -75,9 +78,7 @@ def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
     b = _torques(robot, q, q_s, q_ss) - c
     x_max = np.full(len(s), np.inf)
     if speed_limit is not None:
-        v = np.broadcast_to(np.asarray(speed_limit, dtype=float), (n,))
-        if not np.all(v > 0):
-            raise InputError(f"speed_limit must be positive, got {v.tolist()}")
+        v = speed_limits(robot, speed_limit)
         with np.errstate(divide="ignore"):
             x_max = np.min((v / np.abs(q_s)) ** 2, axis=1)
     ds = np.diff(s)
@@ -132,19 +133,6 @@ def arc_length_path(robot: Robot, path: JointTrajectory):
         full = from_actuated(robot, s, qa, qa_s, qa_ss, q_guess=path.q[0])
         return s, full.q, full.qd, full.qdd
     return s, qa.copy(), qa_s, qa_ss
-
-
-def _limits(robot: Robot, given) -> np.ndarray:
-    na = len(robot.actuated)
-    if given is None:
-        given = [a.get("torque_limit") for a in robot.actuators]
-        if any(v is None for v in given):
-            raise InputError(f"{robot.name}: torque_limit is needed (the description gives no "
-                             "torque_limit for every actuator): one per actuated joint, N*m")
-    lim = np.broadcast_to(np.asarray(given, dtype=float), (na,)).copy()
-    if not np.all(np.isfinite(lim)) or np.any(lim <= 0):
-        raise InputError(f"torque_limit must be positive and finite, got {lim.tolist()}")
-    return lim
 
 
 def _torques(robot: Robot, q, qd, qdd) -> np.ndarray:
