@@ -209,3 +209,23 @@ def test_a_limit_of_the_wrong_length_is_named():
                         speed_limit=[1.0, 2.0, 3.0])
     with pytest.raises(InputError, match="torque_limit must be one number or 2"):
         ps.time_optimal(arm, path, "half a newton metre")
+
+
+def test_a_sweep_times_each_design_anew():
+    """A sweep of a time-optimal study used the study's motion as given (the cubic, 5 s) for
+    every design: peak tau1 0.30 N*m where the timed motion reaches its 0.5 N*m limit. Each
+    design now runs the study, its path timed with that design's dynamics."""
+    import dataclasses
+
+    from planar_sym.study.run import load_study
+
+    res = ps.sweep("serial_2dof_cartesian_fastest", {"m_motor2": (0.2, 0.4, 3)})
+    assert res.route == "per design"
+    assert res.columns["peak_tau1_n_m"] == pytest.approx([0.5, 0.5, 0.5], rel=1e-6)
+    st = load_study("serial_2dof_cartesian_fastest")
+    for k, m in enumerate((0.2, 0.3, 0.4)):  # each design as its own study run
+        one = ps.run_study(dataclasses.replace(st, parameters={"m_motor2": (m, "kg")}))
+        peak = np.abs(one.get("tau", 1).values).max()
+        assert res.columns["peak_tau2_n_m"][k] == pytest.approx(peak, rel=1e-12)
+    # the heaviest elbow motor: joint 1 binds all along, joint 2 stays off its 0.1 N*m
+    assert res.columns["peak_tau2_n_m"][2] < 0.05

@@ -222,7 +222,8 @@ def _route(st: specs.Study, robot: Robot, space: DesignSpace, atlas) -> tuple[st
     """How the designs are evaluated, and the motion they share (if they do)."""
     if atlas is not None:
         return "atlas", ()
-    if st.kind != "inverse":
+    if st.kind != "inverse" or st.optimise is not None:
+        # an [optimise] study's timing depends on each design's dynamics: its own run each
         return "per design", ()
     if not hasattr(robot.tree_inverse_dynamics, "designs"):  # exact path, or no C extension
         return "per design", ()
