@@ -58,10 +58,17 @@ def write_study(st, out: Path, samples: int | None = None, split: bool = False,
                 npz: bool = False, quiet: bool = False):
     """Run one study and write what its [outputs] asks for (and ``STUDY.npz`` with ``npz``);
     returns (result, paths)."""
-    from ..outputs.results import write
     from ..study.run import run as run_study
 
-    result = run_study(st, samples)
+    return write_result(st, run_study(st, samples), out, split, npz, quiet)
+
+
+def write_result(st, result, out: Path, split: bool = False, npz: bool = False,
+                 quiet: bool = False):
+    """Write what the study's [outputs] asks for of its ``result``, already run (``report``
+    runs every study before writing any); returns (result, paths)."""
+    from ..outputs.results import write
+
     o = st.outputs
     paths = write(result, out, split=split or o.split, csv=o.csv, plot=o.plot, npz=npz)
     if o.animation:
@@ -114,16 +121,13 @@ def report(done, name: str, quiet: bool) -> None:
     print(f"{name}: wrote {', '.join(str(p) for p in paths)}{extra}{solver}")
     if result.timing:  # an [optimise] study: the time reached
         print(f"  {result.timing}")
-    if result.kind == "control":  # how well it tracked: the largest error and the last one
-        import numpy as np
+    from ..outputs.html_index import tracking_errors
 
-        errors = [(f"e{s.index + 1}", s) for s in result.series("e")]
-        errors += [("tool point", s) for s in result.series("e_task")]
-        if errors:
-            print("  tracking error: max " + ", ".join(
-                f"{k} {np.abs(s.values).max():.3g} {s.unit}" for k, s in errors)
-                + "; at the end " + ", ".join(
-                f"{k} {abs(s.values[-1]):.3g} {s.unit}" for k, s in errors))
+    errors = tracking_errors(result)  # a control study: the largest error and the last one
+    if errors:
+        print("  tracking error: max " + ", ".join(
+            f"{k} {big:.3g} {unit}" for k, big, _, unit in errors) + "; at the end "
+            + ", ".join(f"{k} {end:.3g} {unit}" for k, _, end, unit in errors))
     for s in result.sizing:
         if s.gear_ratio != 1.0 or s.exceeded:
             print(f"  {s.joint}: motor peak {s.peak_motor_torque_n_m:.4g} N*m, RMS "
