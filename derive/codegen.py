@@ -30,11 +30,12 @@ DERIVE_DIR = Path(__file__).resolve().parent
 _RUNTIME = Path(_units.__file__).resolve().parents[1]  # the planar_sym in use
 #: sources whose change can change the generated files: they are part of the input hash,
 #: named by their path in a checkout wherever they are (so an install hashes the same): every
-#: module of the description package (reading, validating, assembling) and the units
+#: module of the description package (reading, validating, assembling), the units and the
+#: expressions the reader evaluates
 HASHED_SOURCES = tuple(sorted(
     [f"planar_sym/{p.relative_to(_RUNTIME).as_posix()}"
      for p in (_RUNTIME / "model" / "description").glob("*.py")]
-    + ["planar_sym/model/units.py"]))
+    + ["planar_sym/model/units.py", "planar_sym/expressions.py"]))
 
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix

@@ -33,7 +33,10 @@ ALL_ROBOTS = TREES + CLOSED
 #: built-in robots with prismatic joints (issue 11): checked in tests/test_prismatic_robots.py
 #: (their pose = "joints" files and missing tasks do not fit every seed-robot test above)
 PRISMATIC_ROBOTS = ("parallel_3rpr", "serial_rpr", "slider_crank", "slider_crank_slider_driven")
-BUILTIN_ROBOTS = ALL_ROBOTS + PRISMATIC_ROBOTS
+#: built-in robots with a passive joint in a tree (issue 27): checked in tests/test_tvlqr.py and
+#: tests/test_optimal_study.py
+UNDERACTUATED_ROBOTS = ("cart_pole",)
+BUILTIN_ROBOTS = ALL_ROBOTS + PRISMATIC_ROBOTS + UNDERACTUATED_ROBOTS
 
 
 #: run a module as `python -m` does, with SIGINT at Python's default handler whatever the test

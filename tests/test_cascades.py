@@ -38,7 +38,7 @@ CASES = [
     ("point_table", SERIAL, "CS1 = [0.0, 0.0], CS2 = [0.1, 0.0] }",
      "CS1 = [0.0, 0.0], CS2 = {x = 0.1} }", "bodies[0] (link1).points.CS2"),
     ("point_not_a_number", SERIAL, "CS1 = [0.0, 0.0], CS2 = [0.1, 0.0] }",
-     'CS1 = [0.0, 0.0], CS2 = [0.1, "0"] }', "bodies[0] (link1).points.CS2"),
+     'CS1 = [0.0, 0.0], CS2 = [0.1, "zero"] }', "bodies[0] (link1).points.CS2[1]"),
     ("point_nan", SERIAL, "CS1 = [0.0, 0.0], CS2 = [0.1, 0.0] }",
      "CS1 = [0.0, 0.0], CS2 = [0.1, nan] }", "bodies[0] (link1).points.CS2"),
     ("point_name_not_identifier", SERIAL, "CS2 = [0.2, 0.0] }", '"C S2" = [0.2, 0.0] }',
@@ -101,7 +101,7 @@ CASES = [
     ("joint_type_unknown", FIVE_BAR, 'type = "revolute"', 'type = "slider"',
      "joints[0] (A).type"),
     ("loop_joint_name_missing", FIVE_BAR, 'name = "D"\n', "", "joints[3].name"),
-    ("joint_angle_not_a_number", JOINTS, "angle = -40.0", 'angle = "-40"',
+    ("joint_angle_not_a_number", JOINTS, "angle = -40.0", 'angle = "-40 deg"',
      "joints[1] (coupler_joint).angle"),
     ("task_body_misspelt", SERIAL, 'point = "link2.CS2"', 'point = "link3.CS2"', "task.point"),
     # gravity, masses

@@ -165,10 +165,10 @@ def unknown_key(ctx):
 
 
 @bad(DESC, "unknown top-level table `[colours]`", DescriptionError,
-     r"bad\.toml: colours: unknown key \(known: assemble, bodies, gravity, ground, joints, name, "
-     r"notes, pose, symbols, task, title, units\)",
-     "bad.toml: colours: unknown key (known: assemble, bodies, gravity, ground, joints, name, "
-     "notes, pose, symbols, task, title, units)")
+     r"bad\.toml: colours: unknown key \(known: assemble, bodies, constants, gravity, ground, "
+     r"joints, name, notes, pose, symbols, task, title, units\)",
+     "bad.toml: colours: unknown key (known: assemble, bodies, constants, gravity, ground, "
+     "joints, name, notes, pose, symbols, task, title, units)")
 def unknown_table(ctx):
     _desc(ctx, SERIAL, ("[ground]", "[colours]\nlink1 = \"red\"\n\n[ground]"))
 
@@ -188,9 +188,11 @@ def missing_units(ctx):
                          'angle = "rad"\nacceleration = "m/s^2"\n'), ""))
 
 
-@bad(DESC, "wrong type: `mass = \"heavy\"`", DescriptionError,
-     r"bad\.toml: bodies\[0\] \(link1\)\.mass: must be a number \(got 'heavy'\)",
-     "bad.toml: bodies[0] (link1).mass: must be a number (got 'heavy')")
+@bad(DESC, "a word for a number: `mass = \"heavy\"`", DescriptionError,
+     r"bad\.toml: bodies\[0\] \(link1\)\.mass: \"heavy\": unknown name heavy \(known: pi, "
+     r"deg; a file's own go in \[constants\]\)",
+     "bad.toml: bodies[0] (link1).mass: \"heavy\": unknown name heavy (known: pi, deg; a "
+     "file's own go in [constants])")
 def mass_string(ctx):
     _desc(ctx, SERIAL, ("mass = 0.071", 'mass = "heavy"'))
 
@@ -800,9 +802,9 @@ def torque_inf(ctx):
 # -- generated files and compiled libraries --------------------------------------------------------
 
 @bad(FILES, "an unknown robot name: `ps.load(\"six_bar\")`", LibraryError,
-     r"unknown robot 'six_bar': not a built-in robot \(five_bar_type1, .*\), nor a "
+     r"unknown robot 'six_bar': not a built-in robot \(cart_pole, five_bar_type1, .*\), nor a "
      r"description file \(\.toml\) or a generated folder \(a path\)",
-     "unknown robot 'six_bar': not a built-in robot (five_bar_type1, five_bar_type2, "
+     "unknown robot 'six_bar': not a built-in robot (cart_pole, five_bar_type1, five_bar_type2, "
      "parallel_3rpr, parallel_3rrr, serial_2dof, serial_3dof, serial_rpr, slider_crank, "
      "slider_crank_slider_driven), nor a description file (.toml) or a generated folder (a "
      "path)")
@@ -1069,8 +1071,8 @@ def cli_bad_flag(ctx):
 
 
 @bad(CLI, "`planar-sym run no_such_study --out res`", CommandFailed,
-     r"^error: unknown study 'no_such_study': not a built-in study \(five_bar_type1_move_x, ",
-     "error: unknown study 'no_such_study': not a built-in study (five_bar_type1_move_x, ...) "
+     r"^error: unknown study 'no_such_study': not a built-in study \(cart_pole_swing_up, ",
+     "error: unknown study 'no_such_study': not a built-in study (cart_pole_swing_up, ...) "
      "nor a study file (.toml)",
      "tests/test_cli.py::test_run_unknown_scenario_writes_nothing")
 def cli_unknown_study(ctx):
@@ -1351,7 +1353,7 @@ def study_q0_off_loops(ctx):
 
 @bad(STUDY, "a study naming a robot that does not exist", LibraryError,
      r"unknown robot 'no_such_robot': not a built-in robot",
-     "unknown robot 'no_such_robot': not a built-in robot (five_bar_type1, ...), nor a "
+     "unknown robot 'no_such_robot': not a built-in robot (cart_pole, ...), nor a "
      "description file (.toml) or a generated folder (a path)")
 def study_unknown_robot(ctx):
     _study(ctx, STUDY_OK.replace('"serial_2dof"', '"no_such_robot"'))

@@ -132,7 +132,7 @@ def test_writer_round_trips_the_built_in_robots(tmp_path):
 # -- mutations ------------------------------------------------------------------------------------
 
 WRONG_FOR_STRING = [3, 2.5, True, ["a", "b"], {"x": 1}, dt.date(2024, 6, 11)]
-WRONG_FOR_NUMBER = ["heavy", "0.071", True, [0.071], {"value": 0.071}, dt.time(12, 0)]
+WRONG_FOR_NUMBER = ["heavy", "0.071 kg", True, [0.071], {"value": 0.071}, dt.time(12, 0)]
 WRONG_FOR_VECTOR = ["0, 0", 0.5, False, [1.0], [1.0, 2.0, 3.0], [1.0, "y"], [True, False],
                    {"x": 0.0, "y": 0.0}, []]
 WRONG_FOR_BOOL = ["true", 1, 0, 1.0, ["yes"], {"on": True}]

@@ -2,10 +2,10 @@
 each runtime layer imports only the layers below it. Imports inside functions count too: a lazy
 import is still a dependency.
 
-Layers, lowest first (DESIGN.md): base (errors, files, progress, environment) -> model -> motion ->
-dynamics -> control -> identify -> study -> analysis -> outputs -> commands and cli -> the package's public API
-(``planar_sym/__init__.py``). ``derive/`` (build time) may import only the description stage of
-the model and the base.
+Layers, lowest first (DESIGN.md): base (errors, files, progress, environment,
+expressions) -> model -> motion -> dynamics -> control -> identify -> study -> analysis -> outputs
+-> commands and cli -> the package's public API (``planar_sym/__init__.py``). ``derive/`` (build
+time) may import only the description stage of the model and the base.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ LAYERS = ("base", "model", "motion", "dynamics", "control", "optimal", "identify
           "outputs",
           "commands", "api")
 BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress", "planar_sym.environment",
-        "planar_sym.toml_write"}
+        "planar_sym.toml_write", "planar_sym.expressions"}
 #: what derive/ may take from the runtime
 DERIVE_MAY_IMPORT = {"planar_sym.errors", "planar_sym.progress", "planar_sym.model.units",
                      "planar_sym.model.description"}

@@ -290,3 +290,34 @@ def test_identification_notebook(kernel_env):
     for _, identified, drawing, noise in rows:
         assert float(identified) < float(noise)
         assert float(identified) < 0.2 * float(drawing)
+
+
+SWING = re.compile(r"^swing-up: T = (\S+) s, peak \|F\| = (\S+) N, effort = (\S+) N\^2\*s",
+                   re.MULTILINE)
+POLES = re.compile(r"^closed-loop poles: (.+)$", re.MULTILINE)
+END = re.compile(r"^end: \|q - q_up\| = (\S+), peak \|F\| = (\S+) N$", re.MULTILINE)
+OPEN = re.compile(r"^open loop: the pole ends (\S+) deg from upright$", re.MULTILINE)
+
+
+def test_cart_pole_notebook(kernel_env):
+    """The cart-pole lecture (examples/notebooks/cart_pole_swing_up.py) runs; its LQR poles
+    are python-control's for the same A, B and weights, its plan's effort is optimal_move's
+    recomputed here, and the tracked swing-up ends upright where the plan alone falls."""
+    control = pytest.importorskip("control")
+    nb = execute(jupytext.read(NOTEBOOKS / "cart_pole_swing_up.py"), NOTEBOOKS)
+    text = printed(nb)
+    robot = ps.load("cart_pole")
+    lin = ps.linearize(robot, [0.0, np.pi / 2])
+    _, _, poles = control.lqr(lin.a, lin.b, np.diag([100.0, 100.0, 1.0, 1.0]), [[1.0]])
+    (shown,) = POLES.findall(text)
+    got = sorted((complex(p) for p in shown.split(", ")), key=abs)
+    assert np.abs(np.array(got) - sorted(poles, key=abs)).max() < 1e-4 * np.abs(poles).max()
+    ((duration, peak, effort),) = SWING.findall(text)
+    plan = ps.optimal_move(robot, [0.0, -np.pi / 2], [0.0, np.pi / 2], objective="effort",
+                           duration_s=2.0, torque_limit=[0.2], intervals=100)
+    assert float(effort) == pytest.approx(plan.objective, rel=1e-6)
+    assert float(duration) == 2.0 and float(peak) == pytest.approx(0.2, rel=1e-6)
+    ((end, peak_run),) = END.findall(text)
+    assert float(end) < 1e-5 and 0.2 < float(peak_run) < 0.25
+    (fallen,) = OPEN.findall(text)
+    assert abs(float(fallen)) > 90.0

@@ -172,7 +172,7 @@ def test_a_link_too_short_is_refused_naming_the_loop(tmp_path):
 
 
 @pytest.mark.parametrize("edit, message", [
-    (("angle = 60.0", "angle = \"sixty\""), r"joints\[0\] \(crank_joint\)\.angle: must be a number"),
+    (("angle = 60.0", "angle = \"sixty\""), r"joints\[0\] \(crank_joint\)\.angle: \"sixty\": unknown name sixty"),
     (("closes_loop = true", "closes_loop = true\nangle = 3.0"),
      r"joints\[3\] \(B\)\.angle: a loop-closing joint is cut"),
     (('pose = "joints"', 'pose = "joints"\nassemble = false'), r"assemble: pose = 'joints'"),

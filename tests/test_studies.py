@@ -33,6 +33,8 @@ CONTROL_STUDIES = ("serial_2dof_cartesian_track", "serial_2dof_cartesian_track_p
                    "five_bar_type1_track_x")
 #: the built-in time-optimal studies (issue 27), checked in tests/test_time_optimal.py
 FASTEST_STUDIES = ("serial_2dof_cartesian_fastest", "five_bar_type1_move_x_fastest")
+#: the built-in optimal-move studies (issue 27), checked in tests/test_optimal_study.py
+OPTIMAL_STUDIES = ("cart_pole_swing_up",)
 
 
 def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
@@ -53,7 +55,8 @@ def old_name(new: str, actuated: tuple[int, ...], closed: bool) -> str | None:
 
 def test_the_built_in_studies_are_the_seed_scenarios():
     assert tuple(builtin.names()) == tuple(sorted(SEED_STUDIES + PRISMATIC_STUDIES
-                                                       + CONTROL_STUDIES + FASTEST_STUDIES))
+                                                       + CONTROL_STUDIES + FASTEST_STUDIES
+                                                       + OPTIMAL_STUDIES))
 
 
 @pytest.mark.parametrize("name", SEED_STUDIES)

@@ -148,7 +148,7 @@ samples = 1
     expected = ["colour: unknown key", "robot: must be a non-empty string (got 3)",
                 "units.length: unknown length unit 'furlong'", "motion.space: must be one of",
                 "motion.profile: must be one of", "motion.samples: must be an integer from 2",
-                "motion.start: must be a list of numbers",
+                "motion.start[1]: \"a\": unknown name a",
                 "motion.duration: must be > 0 (got -2)"]
     for e in expected:
         assert any(e in p for p in problems), (e, problems)

@@ -37,7 +37,9 @@ class Tracking:
         Every coordinate's samples: the reference (a study's joint motion,
         ``inverse_kinematics``, ``from_actuated``).
     law : str
-        ``"pd"`` (PD + gravity compensation), ``"computed_torque"`` or ``"none"``.
+        ``"pd"`` (PD + gravity compensation), ``"computed_torque"``, ``"lqr"`` (time-varying
+        LQR along the motion, its torques from the inverse dynamics, then LQR about its end:
+        ``tvlqr``) or ``"none"``.
     kp, kd : ndarray, shape (actuated,), or None
         The gains (``controller``'s units), or None to set them from ``natural_frequency_hz``
         and ``damping`` (``bandwidth_gains`` at the motion's start).
@@ -66,6 +68,12 @@ class Tracking:
         The integrator's tolerances.
     where : str
         Prefixes messages (a study names its file); empty from the API.
+    q_weight, r_weight : array or None
+        ``"lqr"`` only: the weights on the state error and the torques (``lqr``'s, SI).
+    tau : ndarray (samples, actuated) or None
+        ``"lqr"`` only: the torques that make the motion (N*m; N at a slider), e.g. an
+        optimal move's; default the inverse dynamics along it (a robot whose every joint is
+        actuated or set by the loops).
     """
 
     motion: JointTrajectory
@@ -87,6 +95,9 @@ class Tracking:
     rtol: float = 1e-10
     atol: float = 1e-12
     where: str = ""
+    q_weight: object = None
+    r_weight: object = None
+    tau: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -130,12 +141,15 @@ def track(robot: Robot, req: Tracking) -> Tracked:
         "start_error", req.start_error, len(act))  # one value per actuated joint
     ref = Signal(ref_full.knots_s, np.ascontiguousarray(ref_full.coefficients[:, act]))
     kp, kd = req.kp, req.kd
-    if req.law != "none" and kp is None:
+    if req.law == "lqr":
+        ctl = _tvlqr(robot, req)
+    elif req.law != "none" and kp is None:
         if req.natural_frequency_hz is None:
             raise InputError(f"{req.where or 'Tracking'}: law {req.law!r} needs gains kp and kd, "
                              "or natural_frequency_hz (and damping) to set them")
         kp, kd = bandwidth_gains(robot, req.law, jt.q[0], req.natural_frequency_hz, req.damping)
-    ctl = controller(req.law, kp, kd, width=len(act), saturate=req.saturate)
+    if req.law != "lqr":
+        ctl = controller(req.law, kp, kd, width=len(act), saturate=req.saturate)
     # the start: on the reference, or off it on the actuated joints (the loops then give a
     # closed chain's passive joints and rates)
     q0, qd0 = jt.q[0].copy(), jt.qd[0].copy()
@@ -145,7 +159,8 @@ def track(robot: Robot, req: Tracking) -> Tracked:
         q0, qd0 = complete_state(robot, q0[act], qd0[act], q_guess=jt.q[0])
     plant = req.plant or robot
     run = simulate_controlled(
-        robot, ctl, (0.0, t_end), reference=ref, plant=plant, q0=q0, qd0=qd0,
+        robot, ctl, (0.0, t_end), reference=None if req.law == "lqr" else ref, plant=plant,
+        q0=q0, qd0=qd0,
         torque=req.torque, t_eval=np.linspace(0.0, t_end, req.samples),
         joint_limits=req.joint_limits, on_joint_limit=req.on_joint_limit,
         on_actuator_limit=req.on_actuator_limit, method=req.method, rtol=req.rtol,
@@ -158,6 +173,25 @@ def track(robot: Robot, req: Tracking) -> Tracked:
         x = robot.task(run.q)[0].reshape(len(run.t_s), -1)
         x_ref = robot.task(ref_full(run.t_s))[0].reshape(len(run.t_s), -1)
     return Tracked(run, ref_full, split, sizing, x, x_ref)
+
+
+def _tvlqr(robot: Robot, req: Tracking):
+    """The time-varying LQR law along ``req.motion`` (its torques given or from the inverse
+    dynamics), LQR about its end after it."""
+    from ..dynamics.along import inverse_along
+    from .tvlqr import tvlqr
+
+    jt, where = req.motion, (req.where + ": " if req.where else "")
+    if req.q_weight is None or req.r_weight is None:
+        raise InputError(f"{where}law \"lqr\" needs q_weight and r_weight")
+    tau = req.tau
+    if tau is None:
+        tau = inverse_along(robot, jt.t_s, jt.q, jt.qd, jt.qdd).tau
+    try:
+        return tvlqr(robot, jt, tau, q_weight=req.q_weight,
+                     r_weight=req.r_weight).controller(req.saturate)
+    except InputError as exc:
+        raise InputError(f"{where}{exc}") from None
 
 
 def reference(jt: JointTrajectory, t_end: float, where: str) -> Signal:

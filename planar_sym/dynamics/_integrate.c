@@ -55,7 +55,7 @@ typedef struct {
     const double *T, *c;
 } Signal;
 
-/* Mirrored by _CControl in planar_sym/control/loop.py (ctypes); keep the two in step. */
+/* Mirrored by _CControl in planar_sym/dynamics/engine.py (ctypes); keep the two in step. */
 typedef struct {
     int mode;                 /* 0 open loop, 1 PD + gravity, 2 computed torque, 3 LQR */
     int saturate;
@@ -80,6 +80,10 @@ typedef struct {
     const double *gain;       /* mode 3: n_act x 2n, row-major */
     const double *x_ref;      /* mode 3: 2n, the state it holds */
     const double *u_ref;      /* mode 3: n_act, the torques that hold it there */
+    Signal sched;             /* mode 3, time-varying (n_knots > 0): channels x_ref (2n),
+                                 u_ref (n_act), gain (n_act x 2n), replacing the three above */
+    double *sched_v;          /* its values at t (scratch, one per channel) */
+    int hint_sched;
 } Control;
 
 typedef struct {
@@ -208,12 +212,19 @@ static int control(System *sys, double t, const double *y) {
             for (int a = 0; a < na; ++a) tc[a] += tau[a];
         }
     }
-    if (c->mode == 3) {  /* LQR: full-state feedback about x_ref */
+    if (c->mode == 3) {  /* LQR: full-state feedback about x_ref (of time: a TVLQR) */
+        const double *xr = c->x_ref, *ur = c->u_ref, *gain = c->gain;
+        if (c->sched.n_knots) {
+            signal_eval(&c->sched, t, &c->hint_sched, c->sched_v, 0, 0);
+            xr = c->sched_v;
+            ur = xr + 2 * n;
+            gain = ur + na;
+        }
         for (int a = 0; a < na; ++a) {
-            const double *k = c->gain + (long long)a * 2 * n;
-            double v = c->u_ref[a];
+            const double *k = gain + (long long)a * 2 * n;
+            double v = ur[a];
             for (int j = 0; j < n; ++j)
-                v += k[j] * (c->x_ref[j] - q[j]) + k[n + j] * (c->x_ref[n + j] - qd[j]);
+                v += k[j] * (xr[j] - q[j]) + k[n + j] * (xr[n + j] - qd[j]);
             tc[a] += v;
         }
     }

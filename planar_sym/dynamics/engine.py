@@ -50,7 +50,8 @@ class _CControl(ctypes.Structure):  # mirrors Control in _integrate.c
                 ("n_log", ctypes.c_int), ("log_ev", _P), ("log_t", _P),
                 ("stopped", ctypes.c_int), ("t_stop", ctypes.c_double), ("y_stop", _P),
                 ("hint_ref", ctypes.c_int), ("hint_input", ctypes.c_int),
-                ("gain", _P), ("x_ref", _P), ("u_ref", _P)]
+                ("gain", _P), ("x_ref", _P), ("u_ref", _P), ("sched", _CSignal),
+                ("sched_v", _P), ("hint_sched", ctypes.c_int)]
 
 
 def _array(a, dtype=float) -> np.ndarray:
@@ -76,6 +77,10 @@ class _Setup:
         c.gain = self._ptr(ctl.gain or np.zeros(1))
         c.x_ref = self._ptr(ctl.x_ref or np.zeros(1))
         c.u_ref = self._ptr(ctl.u_ref or np.zeros(1))
+        if ctl.schedule is not None:  # a time-varying LQR: x_ref, u_ref and K of time
+            c.sched = self._signal(ctl.schedule)
+            self.sched_v = np.zeros(ctl.schedule.channels)
+            c.sched_v = self.sched_v.ctypes.data
         fv, fc, vs = friction(plant)
         c.fv, c.fc, c.vs = self._ptr(fv), self._ptr(fc), self._ptr(vs)
         if isinstance(torque, Signal):
@@ -165,7 +170,12 @@ def check_controller(robot: Robot, ctl: Controller) -> None:
         raise InputError(f"{robot.name}: control of a closed chain needs as many passive "
                          f"coordinates ({robot.n - len(robot.actuated)}) as loop equations "
                          f"({robot.n_constraints})")
-    if ctl.kind == "lqr" and len(ctl.gain) != 2 * robot.n * len(robot.actuated):
+    na, n = len(robot.actuated), robot.n
+    if ctl.kind == "lqr" and ctl.schedule is not None and \
+            ctl.schedule.channels != 2 * n + na + 2 * n * na:
+        raise InputError(f"{robot.name}: this time-varying LQR law was designed for another "
+                         "robot (make it with planar_sym.tvlqr on this one)")
+    if ctl.kind == "lqr" and ctl.schedule is None and len(ctl.gain) != 2 * n * na:
         raise InputError(f"{robot.name}: this LQR law was designed for another robot (make "
                          "it with planar_sym.lqr on this one)")
     for k in (ctl.kp, ctl.kd):
@@ -299,12 +309,26 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         events += assembly_changes(plant, t_out, q)
     cmd, app, _ = control_values(robot, setup, t_out, ys)
     kin, pot = plant.energy(q, qd)
-    q_ref = ref(t_out) if ref is not None else q[:, act]
-    qd_ref = ref(t_out, 1) if ref is not None else qd[:, act]
+    q_ref, qd_ref = _held(controller, ref, t_out, n, act)
+    if q_ref is None:  # open loop: no reference, no error
+        q_ref, qd_ref = q[:, act], qd[:, act]
     return Simulation(t_out, q, qd, app, kin, pot, method, rtol, atol, n_rhs, drift,
                       **labels(robot), q_ref=q_ref, qd_ref=qd_ref, tau_cmd=cmd,
                       work_j=ys[:, 2 * n], friction_j=ys[:, 2 * n + 1], controller=controller,
                       events=tuple(sorted(events, key=lambda e: e.time_s)))
+
+
+def _held(ctl: Controller, ref: Signal | None, t: np.ndarray, n: int, act: list[int]):
+    """The actuated coordinates' reference and its rate at ``t`` (each (N, actuated)): the
+    tracked motion's, or the state an LQR law holds (of time along a TVLQR's motion); None
+    for an open-loop run."""
+    if ref is not None:
+        return ref(t), ref(t, 1)
+    if ctl.kind != "lqr":
+        return None, None
+    x = (ctl.schedule(t)[:, :2 * n] if ctl.schedule is not None
+         else np.broadcast_to(np.asarray(ctl.x_ref), (len(t), 2 * n)))
+    return x[:, act].copy(), x[:, [n + i for i in act]].copy()
 
 
 def assembly_changes(robot: Robot, t: np.ndarray, q: np.ndarray) -> list[Event]:

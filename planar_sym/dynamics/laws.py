@@ -16,7 +16,8 @@ reference ``q_r(t)`` and the error ``e = q_r - q``:
                        from Phi_q qdd = gamma, then the closed-chain inverse dynamics
     "lqr"              full-state feedback about an equilibrium (x = (q, qd)), on every
                        coordinate, passive ones included (a cart-pole's pole angle):
-                       tau = u_ref + K (x_ref - x),  K from planar_sym.lqr
+                       tau = u_ref + K (x_ref - x),  K from planar_sym.lqr; or along
+                       a motion, x_ref, u_ref and K of time (planar_sym.tvlqr)
     "none"             open loop: only the input torques (a table, a profile, a constant)
 
 With an exact model, computed torque makes every error obey ``e'' + Kd e' + Kp e = 0``: the
@@ -30,6 +31,8 @@ are 1/s^2 and 1/s (Kp = w^2 and Kd = 2 zeta w give a natural frequency w and dam
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+from ..motion.signals import Signal
 
 KINDS = ("pd", "computed_torque", "lqr", "none")
 MODE = {"none": 0, "pd": 1, "computed_torque": 2, "lqr": 3}
@@ -54,6 +57,10 @@ class Controller:
     gain, x_ref, u_ref : tuple of float
         "lqr" only: K (actuated x 2n, row-major; N*m per rad, per rad/s...), the state it
         holds (2n: q then qd) and the torques that hold it there (actuated).
+    schedule : Signal or None
+        "lqr" along a motion (``planar_sym.tvlqr``): x_ref (2n), u_ref (actuated) and K
+        (actuated x 2n, row-major) as functions of time, channels in that order; its last
+        segment is constant (the end held). Replaces gain, x_ref and u_ref.
     """
 
     kind: str
@@ -63,6 +70,7 @@ class Controller:
     gain: tuple[float, ...] = ()
     x_ref: tuple[float, ...] = ()
     u_ref: tuple[float, ...] = ()
+    schedule: Signal | None = None
 
     @property
     def mode(self) -> int:

@@ -75,7 +75,12 @@ def closed_loop_rhs(robot: Robot, plant: Robot, ctl: Controller, ref: Signal | N
         tau += signal_mx(u, t)[0]
     elif u is not None:
         tau += ca.DM(u)
-    if ctl.kind == "lqr":  # as _integrate.c's mode 3
+    if ctl.kind == "lqr" and ctl.schedule is not None:  # as _integrate.c's mode 3, of time
+        v = signal_mx(ctl.schedule, t)[0]
+        x_ref, u_ref = v[:2 * n], v[2 * n:2 * n + na]
+        k = ca.reshape(v[2 * n + na:], 2 * n, na).T  # row-major (na, 2n)
+        tau += u_ref + ca.mtimes(k, x_ref - x[:2 * n])
+    elif ctl.kind == "lqr":  # as _integrate.c's mode 3
         k = ca.DM(np.reshape(ctl.gain, (na, 2 * n)))
         tau += ca.DM(ctl.u_ref) + ca.mtimes(k, ca.DM(ctl.x_ref) - x[:2 * n])
     elif ctl.kind != "none":

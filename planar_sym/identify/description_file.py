@@ -16,7 +16,9 @@ import math
 import tomllib
 
 from ..errors import InputError
+from ..expressions import constants, numbers
 from ..model.description import load as load_description
+from ..model.description.validator import NUMBERS
 from ..model.robot import Robot
 from ..model.units import factor
 from ..toml_write import dumps
@@ -45,7 +47,10 @@ def identified_description(robot: Robot, identified: Robot, note: str = "") -> s
 
     mass_u, inertia_u, length_u = scale("mass"), scale("inertia"), scale("length")
     pose = raw.get("pose", "world")
-    for entry in raw.get("bodies", []):
+    # the numbers as the reader sees them (a point may be typed as an expression); the file
+    # written keeps what was typed except the values identified
+    values = numbers(raw, NUMBERS, constants(raw.get("constants"))[0])
+    for entry, read in zip(raw.get("bodies", []), values.get("bodies", [])):
         name = entry["name"]
         body = desc.bodies[name]
         if f"m_{name}" in par:
@@ -55,7 +60,7 @@ def identified_description(robot: Robot, identified: Robot, note: str = "") -> s
         cg = (par.get(f"cgx_{name}", body.cg_m[0]), par.get(f"cgy_{name}", body.cg_m[1]))
         if math.dist(cg, body.cg_m) <= SAME_M:
             continue
-        origin, angle = _typed_frame(entry, pose, length_u)
+        origin, angle = _typed_frame(read, pose, length_u)
         if "mass_at" in entry:  # a point mass moved: a point of its own carries it
             point = _free_name(entry["points"], "cg")
             entry["points"][point] = [v / length_u for v in _typed(cg, origin, angle)]

@@ -28,7 +28,7 @@ def _derive_sources() -> list[Path]:
     roots = [p for p in (_PKG / "_derive", _PKG.parent / "derive") if p.is_dir()]
     files = sorted(p for root in roots for p in root.glob("*.py"))
     files += sorted(here.glob("description*.py")) + sorted(here.glob("description/*.py"))
-    return files + [here / "units.py"]
+    return files + [here / "units.py", _PKG / "expressions.py"]
 
 
 def derivation_key(description: Path) -> str:

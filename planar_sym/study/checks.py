@@ -1,5 +1,12 @@
 """Field checks of a TOML input (a study file): every problem collected, each naming the file,
-the field and the value, then raised at once as one StudyError."""
+the field and the value, then raised at once as one StudyError.
+
+Numbers may be typed as expressions (``planar_sym.expressions``): ``expressions`` evaluates them
+once, before any check, at the places the reader's schema names (``spec.NUMBERS``), so
+``control_spec`` and every check after see floats; one that is no expression is a ``Bad``, which
+``number`` and ``vector`` report at their field. ``names`` (the file's ``[constants]``) serve
+the quantity strings of ``[parameters]``, read by the reader itself.
+"""
 
 from __future__ import annotations
 
@@ -7,6 +14,7 @@ import math
 from pathlib import Path
 
 from ..errors import InputError
+from ..expressions import Bad, constants, numbers
 from ..model.units import factor
 
 
@@ -24,6 +32,18 @@ class Checker:
     def __init__(self, path: Path | None):
         self.path, self.problems = path, []
         self.base = path.parent if path is not None else Path.cwd()
+        self.names: dict[str, float] = {}  # the file's [constants]
+
+    def expressions(self, data: dict, schema) -> dict:
+        """``data`` with its expressions evaluated (``expressions.numbers``), [constants] first;
+        a problem in [constants] is raised at once, with those found so far (every field using
+        the constant would only repeat it)."""
+        self.names, problems = constants(data.get("constants"))
+        for fld, msg in problems:
+            self.err(fld, msg)
+        if problems:
+            self.done()
+        return numbers(data, schema, self.names)
 
     def err(self, fld: str, msg: str) -> None:
         where = f"{self.path}: " if self.path is not None else ""
@@ -80,6 +100,9 @@ class Checker:
         if v is None:
             self.err(fld, "missing")
             return None
+        if isinstance(v, Bad):
+            self.err(fld, v.message)
+            return None
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not finite(v):
             self.err(fld, f"must be a finite number (got {v!r:.60})")
             return None
@@ -111,6 +134,11 @@ class Checker:
         if v is None:
             if required:
                 self.err(fld, "missing")
+            return None
+        bad = [x for x in (v if isinstance(v, list) else [v]) if isinstance(x, Bad)]
+        for x in bad:
+            self.err(f"{fld}{x.index}", x.message)
+        if bad:
             return None
         if (not isinstance(v, list) or not v
                 or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)):

@@ -14,6 +14,8 @@ which is zero up to the integrator's accuracy.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from ..control.track import Tracked, Tracking, track
@@ -36,7 +38,14 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
     # the study read into one request in SI (its fields checked here, by name), then tracked
     kp, kd = _given_gains(st, robot)
     start_error, limits = _start_error(st, robot), _limits(st, robot)
-    jt, _ = joint_motion(st, robot)
+    tau, found = None, ""
+    if st.kind == "optimal":  # the optimal move, with the torques that make it
+        from .optimal_run import plan
+
+        move, found = plan(st, robot)
+        jt, tau = move.trajectory, move.tau
+    else:
+        jt, _ = joint_motion(st, robot)
     # a torque input must cover the run: to the motion's end if no duration is given
     torque = torque_input(st, robot, cs.torque, cs.duration_s or float(jt.t_s[-1]),
                           "control.torque")
@@ -45,8 +54,12 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
         damping=cs.damping, saturate=cs.saturate, samples=samples or cs.samples,
         duration_s=cs.duration_s, start_error=start_error, torque=torque, joint_limits=limits,
         on_joint_limit=st.events.on_joint_limit, on_actuator_limit=st.events.on_actuator_limit,
-        plant=plant, method=cs.method, rtol=cs.rtol, atol=cs.atol, where=where))
-    return _result(st, robot, done)
+        plant=plant, method=cs.method, rtol=cs.rtol, atol=cs.atol, where=where,
+        q_weight=cs.q_weight, r_weight=cs.r_weight, tau=tau))
+    result = _result(st, robot, done)
+    if found:  # what the move is: the plan the law tracks
+        result = replace(result, note=f"{found}; {result.note}", timing=found)
+    return result
 
 
 def _given_gains(st: specs.Study, robot: Robot):
@@ -130,25 +143,34 @@ def _result(st: specs.Study, robot: Robot, done: Tracked) -> Result:
     error = run.error
     for k, i in enumerate(robot.actuated):
         data += [run.get("q_ref", i), Series.of_coordinate("e", i, units[i], error[:, k])]
+    ctl = run.controller
+    fed_back = _fed_back(robot, ctl, run)  # an LQR law's other coordinates (a pole)
+    for i, e in fed_back.items():
+        data.append(Series.of_coordinate("e", i, units[i], e))
     for k, i in enumerate(robot.actuated):
         data += [run.get("tau_cmd", i), run.get("tau", i),
                  Series("p", "W", run.tau[:, k] * run.qd[:, i], index=i)]
     data += [run.get("energy"), run.get("work"), run.get("friction"),
              Series("balance", "J",
                     run.energy_j - run.energy_j[0] - (run.work_j - run.friction_j))]
-    ctl = run.controller
     gains = ""
-    if ctl.kind != "none":
+    if ctl.kind == "lqr":
+        cs = st.control
+        gains = (" along the motion, then LQR about its end; q_weight "
+                 f"{', '.join(f'{v:g}' for v in cs.q_weight)}, r_weight "
+                 f"{', '.join(f'{v:g}' for v in cs.r_weight)} (SI)")
+    elif ctl.kind != "none":
         kpu, kdu = ctl.gain_units(units[robot.actuated[0]])
         gains = (f" Kp {', '.join(f'{v:.4g}' for v in ctl.kp)} {kpu}, Kd "
                  f"{', '.join(f'{v:.4g}' for v in ctl.kd)} {kdu}")
     law = {"pd": "PD + gravity compensation", "computed_torque": "computed torque",
-           "none": "open loop"}[ctl.kind]
-    err = np.max(np.abs(run.error), axis=0)
+           "none": "open loop", "lqr": "time-varying LQR"}[ctl.kind]
+    errors = dict(zip(robot.actuated, run.error.T)) | fed_back
     note = (f"{coordinates_note(robot)}; {law}{gains}; max |error| "
-            + ", ".join(f"e{i + 1} {v:.3g} {units[i]}" for i, v in zip(robot.actuated, err))
-            + "; final |error| " + ", ".join(f"e{i + 1} {abs(v):.3g} {units[i]}" for i, v in
-                                             zip(robot.actuated, run.error[-1]))
+            + ", ".join(f"e{i + 1} {np.abs(e).max():.3g} {units[i]}"
+                        for i, e in sorted(errors.items()))
+            + "; final |error| " + ", ".join(f"e{i + 1} {abs(e[-1]):.3g} {units[i]}"
+                                             for i, e in sorted(errors.items()))
             + f"; energy balance residual {run.balance_residual:.2e} (relative); {run.method} "
               f"rtol {run.rtol:g}")
     if st.control.plant:
@@ -161,3 +183,14 @@ def _result(st: specs.Study, robot: Robot, done: Tracked) -> Result:
                   robot=robot.name,
                   actuated=robot.actuated, sizing=done.sizing, reference=q_ref_full,
                   events=run.events)
+
+
+def _fed_back(robot: Robot, ctl, run) -> dict[int, np.ndarray]:
+    """The tracking error x_ref - q of the coordinates an LQR law feeds back besides the
+    actuated ones (a tree's passive joints), keyed by coordinate (0-based)."""
+    if ctl.kind != "lqr" or robot.is_closed_chain:
+        return {}
+    others = [i for i in range(robot.n) if i not in robot.actuated]
+    ref = (ctl.schedule(run.t_s)[:, :robot.n] if ctl.schedule is not None
+           else np.broadcast_to(np.asarray(ctl.x_ref[:robot.n]), run.q.shape))
+    return {i: ref[:, i] - run.q[:, i] for i in others}

@@ -4,7 +4,9 @@ gains, the plant's parameters and the run; the events and what each does.
 .. code:: toml
 
     [control]
-    law = "computed_torque"        # "pd" (PD + gravity compensation), "computed_torque", "none"
+    law = "computed_torque"        # "pd" (PD + gravity compensation), "computed_torque", "none",
+                                   # "lqr" (time-varying LQR along the motion, then LQR about
+                                   # its end: q_weight = [...] (2n, SI), r_weight = [...])
     natural_frequency_hz = 4.0     # gains from a bandwidth (and damping, default 1) ...
     # kp = [400.0, 400.0]          # ... or given (one number: every joint): PD in N*m/rad,
                                    # computed torque in 1/s^2
@@ -32,12 +34,13 @@ from pathlib import Path
 
 from .checks import Checker, finite
 
-LAWS = ("pd", "computed_torque", "none")
+LAWS = ("pd", "computed_torque", "lqr", "none")
 CONTROL_METHODS = ("dopri5", "cvodes", "idas")
 INTERPOLATIONS = ("hold", "linear", "cubic", "pchip")
 TORQUE_PROFILES = ("cubic", "quintic")
 _CONTROL = {"law", "kp", "kd", "natural_frequency_hz", "damping", "saturate", "duration",
-            "samples", "start_error", "torque", "method", "rtol", "atol", "plant"}
+            "samples", "start_error", "torque", "method", "rtol", "atol", "plant", "q_weight",
+            "r_weight"}
 _EVENTS = {"joint_limits", "on_joint_limit", "on_actuator_limit"}
 MAX_FREQUENCY_HZ = 1e4
 
@@ -72,6 +75,8 @@ class ControlSpec:
     rtol: float = 1e-10
     atol: float = 1e-12
     plant: dict[str, tuple[float, str | None]] = field(default_factory=dict)
+    q_weight: tuple[float, ...] | None = None
+    r_weight: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -103,10 +108,19 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
             c.err("control", "give natural_frequency_hz or kp and kd, not both")
         elif given[0] and (("kp" in tbl) != ("kd" in tbl)):
             c.err("control", "give both kp and kd")
-    elif law == "none":
+    elif law in ("none", "lqr"):
         for key in ("kp", "kd", "natural_frequency_hz", "damping"):
             if key in tbl:
-                c.err(f"control.{key}", "not used by law = \"none\" (open loop)")
+                c.err(f"control.{key}", f"not used by law = \"{law}\"" + (
+                    " (open loop)" if law == "none" else ": give q_weight and r_weight"))
+    weights = {}
+    for key in ("q_weight", "r_weight"):
+        weights[key] = c.vector({key: [tbl[key]] if _number(tbl.get(key)) else tbl.get(key)},
+                                key, f"control.{key}", required=law == "lqr")
+        if law != "lqr" and key in tbl:
+            c.err(f"control.{key}", "only for law = \"lqr\"")
+        elif weights[key] is not None and min(weights[key]) < 0:
+            c.err(f"control.{key}", f"must be >= 0 (got {list(weights[key])})")
     for key, vec in (("kp", kp), ("kd", kd)):
         if vec is not None and min(vec) < 0:
             c.err(f"control.{key}", f"must be >= 0: a negative gain pushes the joint away from "
@@ -127,7 +141,8 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
     if None in (law, method, rtol, atol, damping):
         return None
     return ControlSpec(law, kp, kd, freq, damping, saturate, duration, samples, start_error,
-                       torque, method, rtol, atol, plant)
+                       torque, method, rtol, atol, plant, weights["q_weight"],
+                       weights["r_weight"])
 
 
 def _number(v) -> bool:

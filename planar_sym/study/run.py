@@ -98,7 +98,9 @@ def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
     sweep calls once per design, on one robot whose parameter vector it sets in place."""
     if st.kind == "forward":
         return _forward(st, robot, samples)
-    if st.kind == "control":
+    if st.kind == "optimal" and st.control is None:
+        return _optimal(st, robot, samples)
+    if st.kind in ("control", "optimal"):
         from .control_run import run_control
 
         # the plant: the same description with the values [control.plant] sets (checked SI)
@@ -107,6 +109,33 @@ def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
         return run_control(st, robot, samples, plant)
     jt, x, timing = timed_motion(st, robot, samples)
     return _inverse(st, robot, jt, x, timing)
+
+
+def _optimal(st: specs.Study, robot: Robot, samples: int | None) -> Result:
+    """The optimal move run as an inverse study runs its motion (at its nodes, or at
+    ``samples`` evenly spaced times); a tree with a passive joint: the move itself."""
+    from .optimal_run import plan, plan_motion
+
+    move, found = plan(st, robot)
+    if robot.is_closed_chain or len(robot.actuated) == robot.n:
+        jt, x = plan_motion(st, robot, samples)
+        return _inverse(st, robot, jt, x, found)
+    jt = move.trajectory  # the solver's nodes: between them the passive joint is not free
+    data = [Series("t", "s", jt.t_s)]
+    if robot.task_names:
+        data += task_series(robot, robot.task(jt.q)[0].reshape(len(jt.t_s), -1))
+    for kind, values in (("q", jt.q), ("qd", jt.qd), ("qdd", jt.qdd)):
+        data += coordinate_series(robot, kind, values)
+    data += coordinate_series(robot, "tau", move.tau, robot.actuated)
+    data += [Series("p", "W", move.tau[:, k] * jt.qd[:, i], index=i)
+             for k, i in enumerate(robot.actuated)]
+    passive = ", ".join(robot.coordinates[i] for i in range(robot.n)
+                        if i not in robot.actuated)
+    note = (f"{_coordinates_note(robot)}; {found}; the solver's nodes and torques (qdd: each "
+            f"interval's, constant; {passive} passive: no joint loads, and no torque there "
+            "at a node): add [control] to run it on the robot")
+    return Result(st.name, st.title, data, kind="torques", note=note, robot=robot.name,
+                  actuated=robot.actuated, timing=found)
 
 
 def coordinate_series(robot: Robot, quantity: str, values: np.ndarray,
@@ -139,10 +168,11 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x, timing: str 
                  "cut joint's parent body")
     note += "; jf*, jm*: joint loads, parent on child (world axes; jload = |jf|)"
     solver = getattr(jt, "solver", "")
-    if st.motion.space == "joint" and robot.is_closed_chain:
+    space = st.motion.space if st.motion else "joint"  # an optimal move is in joint space
+    if space == "joint" and robot.is_closed_chain:
         solver = "passive joints from the loops (Newton, continued)"
     if solver:
-        note += f"; {'inverse kinematics' if st.motion.space == 'task' else 'joints'}: {solver}"
+        note += f"; {'inverse kinematics' if space == 'task' else 'joints'}: {solver}"
     over = [e for s in inv.sizing for e in s.exceeded]
     if over:
         note += "; ACTUATOR LIMITS EXCEEDED: " + "; ".join(over)
@@ -247,11 +277,16 @@ def motion_and_reference(study: str | Path | specs.Study, frames: int
     if not isinstance(frames, (int, np.integer)) or frames < 2:
         raise InputError(f"the number of frames must be an integer >= 2 (got {frames})")
     robot = robot_of(st)
-    if st.kind in ("forward", "control"):
+    if st.kind in ("forward", "control") or (st.kind == "optimal" and st.control):
         result = (_forward(st, robot, frames) if st.kind == "forward"
                   else run(st, samples=frames))
         q = np.column_stack([result.get("q", index=i).values for i in range(robot.n)])
         return robot, result.get("t").values, q, result.reference
+    if st.kind == "optimal":
+        from .optimal_run import plan_motion
+
+        jt, _ = plan_motion(st, robot, frames)
+        return robot, jt.t_s, jt.q, None
     if st.optimise is None:
         jt, _ = joint_motion(st, robot, frames)
         return robot, jt.t_s, jt.q, None

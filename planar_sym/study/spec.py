@@ -6,7 +6,10 @@
     robot = "five_bar_type1"       # built-in name, a description file (.toml) or a generated folder
     kind = "inverse"               # "inverse": torques along a motion; "forward": simulate;
                                    # "control": track the motion under a controller
-                                   # ([control], [events]: see study/control_spec.py)
+                                   # ([control], [events]: see study/control_spec.py);
+                                   # "optimal": the best move between two states
+                                   # ([optimal]: see study/optimal_spec.py), run, or
+                                   # tracked under its [control] law
 
     [units]                        # of this file's numbers; default m and rad (time is in s)
     length = "mm"
@@ -15,12 +18,15 @@
     [parameters]                   # overrides: a number in the description's units, or "0.5 kg"
     m_L_Link1 = 0.5
 
+    [constants]                    # optional: names for the expressions below
+    side = 30.0
+
     [motion]                       # kind = "inverse"
     space = "task"                 # "task" (x, y[, phi]) or "joint" (every joint of a tree,
                                    # the actuated joints of a closed chain)
     profile = "cubic"              # cubic | quintic | trapezoid | via | table
     start = [60.852, 154.665]
-    by = [30.0, 30.0]              # or end = [...]
+    by = ["side", "side"]          # or end = [...]; any number may be an expression
     duration = 1.5                 # s
     samples = 201
 
@@ -41,6 +47,10 @@
 
 Paths (a description file, a table) are relative to the study file. Every problem is reported
 at once, naming the file, the field and the value; nothing is run then.
+
+Every number may be typed as an expression in a string (``"30*cos(45*deg)"``, ``"side/2"``;
+the rules: ``planar_sym.expressions``), at the places ``NUMBERS`` names; a ``[parameters]`` or
+``[control.plant]`` string is an expression optionally followed by its unit (``"2*0.3 kg"``).
 """
 
 from __future__ import annotations
@@ -50,6 +60,7 @@ from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
 
+from ..expressions import ExpressionError, quantity
 from ..model.units import factor
 from .checks import Checker, StudyError, finite
 from .control_spec import (
@@ -60,7 +71,9 @@ from .control_spec import (
     parse_events,
     parse_torque,
 )
+from .optimal_spec import OptimalSpec, parse_optimal
 
+KINDS = ("inverse", "forward", "control", "optimal")
 PROFILES = ("cubic", "quintic", "trapezoid", "via", "table")
 SOLVERS = ("auto", "seed", "newton")
 METHODS = ("dopri5", "cvodes", "idas", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
@@ -71,13 +84,29 @@ MAX_DURATION_S = 1e6
 MAX_FRAMES = 2000
 
 _TOP = {"title", "robot", "kind", "units", "parameters", "motion", "simulation", "outputs", "notes",
-        "control", "events", "optimise"}
+        "control", "events", "optimise", "optimal", "constants"}
 _OPTIMISE = {"torque_limit", "speed_limit"}
 _UNITS = {"length", "angle"}
 _MOTION = {"space", "profile", "start", "by", "end", "duration", "samples", "v_max", "a_max",
            "times", "points", "file", "ik", "start_pose"}
 _SIMULATION = {"q0", "qd0", "duration", "samples", "torque", "method", "rtol", "atol"}
 _OUTPUTS = {"csv", "plot", "split", "animation", "frames"}
+#: a torque input: a list of constants or a profile table (a string, "zero", is no number)
+_TORQUE = (1, {"start": 1, "end": 1, "duration": 0})
+#: where a study takes numbers, for ``expressions.numbers``: 0 a number, 1 a list of numbers, 2
+#: a list of such lists, a tuple either; a string there is an expression. Integers (samples,
+#: frames) are not numbers here; [parameters] and [control.plant] are read by ``parameters``.
+NUMBERS = {
+    "motion": {"start": 1, "by": 1, "end": 1, "duration": 0, "v_max": 1, "a_max": 1,
+               "times": 1, "points": 2, "start_pose": 1},
+    "simulation": {"q0": 1, "qd0": 1, "duration": 0, "rtol": 0, "atol": 0, "torque": _TORQUE},
+    "control": {"kp": (0, 1), "kd": (0, 1), "natural_frequency_hz": 0, "damping": 0,
+                "duration": 0, "start_error": 1, "rtol": 0, "atol": 0, "torque": _TORQUE,
+                "q_weight": (0, 1), "r_weight": (0, 1)},
+    "events": {"joint_limits": {"*": 1}},
+    "optimise": {"torque_limit": 1, "speed_limit": 1},
+    "optimal": {"start": 1, "end": 1, "duration": 0, "torque_limit": 1, "speed_limit": 1},
+}
 
 
 @dataclass(frozen=True)
@@ -151,6 +180,7 @@ class Study:
     control: ControlSpec | None = None
     events: EventsSpec | None = None
     optimise: Optimise | None = None
+    optimal: OptimalSpec | None = None
 
     @property
     def length_si(self) -> float:
@@ -177,14 +207,23 @@ def parse(data: dict, name: str, path: Path | None = None) -> Study:
     """A Study from a TOML table (``path`` names the file in messages and anchors paths)."""
     c = _Checker(path)
     c.keys(data, _TOP, "")
+    data = c.expressions(data, NUMBERS)
     robot = c.string(data, "robot", "robot")
-    kind = c.choice(data, "kind", "kind", ("inverse", "forward", "control"))
+    kind = c.choice(data, "kind", "kind", KINDS)
     units = c.table(data, "units")
     c.keys(units, _UNITS, "units.")
     length = c.unit(units, "length", "m")
     angle = c.unit(units, "angle", "rad")
     params = c.parameters(c.table(data, "parameters"))
-    motion = sim = control = events = None
+    motion = sim = control = events = optimal = None
+    if kind == "optimal":
+        optimal = parse_optimal(c, c.table(data, "optimal", required=True))
+        for key, what in (("motion", "the move is what it finds"),
+                          ("simulation", "it finds a move")):
+            if key in data:
+                c.err(key, f"not for kind = \"optimal\" ({what}: see [optimal])")
+    elif "optimal" in data and kind is not None:
+        c.err("optimal", f"only for kind = \"optimal\" (this study is \"{kind}\")")
     if kind in ("inverse", "control"):
         motion = c.motion(c.table(data, "motion", required=True))
         if "simulation" in data:
@@ -194,13 +233,14 @@ def parse(data: dict, name: str, path: Path | None = None) -> Study:
         if "motion" in data:
             c.err("motion", "only for kind = \"inverse\" or \"control\" (this study is "
                             "\"forward\")")
-    if kind == "control":
+    if kind == "control" or (kind == "optimal" and "control" in data):
         control = parse_control(c, c.table(data, "control", required=True), c.parameters)
         events = parse_events(c, c.table(data, "events"))
     elif kind is not None:
         for key in ("control", "events"):
             if key in data:
-                c.err(key, f"only for kind = \"control\" (this study is \"{kind}\")")
+                c.err(key, f"only for kind = \"control\" or \"optimal\" (this study is "
+                           f"\"{kind}\")")
     optimise = None
     if "optimise" in data:
         if kind == "inverse":
@@ -213,7 +253,7 @@ def parse(data: dict, name: str, path: Path | None = None) -> Study:
         c.err("title", f"must be a string (got {title!r})")
     c.done()
     return Study(name, str(title), c.robot_ref(robot), kind, length, angle, params, motion, sim,
-                 outputs, path, control, events, optimise)
+                 outputs, path, control, events, optimise, optimal)
 
 
 class _Checker(Checker):
@@ -230,15 +270,12 @@ class _Checker(Checker):
         out = {}
         for name, v in tbl.items():
             fld = f"{section}.{name}"
-            if isinstance(v, str):
-                value, _, unit = v.strip().partition(" ")
+            if isinstance(v, str):  # "0.5 kg", "2*0.3 kg", "m1/2": the unit is checked later
                 try:
-                    number = float(value)
-                except ValueError:
-                    self.err(fld, f"must be a number, or a number and a unit such as "
-                                  f"\"0.5 kg\" (got {v!r})")
+                    out[name] = quantity(v, self.names)
+                except ExpressionError as exc:
+                    self.err(fld, str(exc))
                     continue
-                out[name] = (number, unit.strip() or None)
             elif isinstance(v, (int, float)) and not isinstance(v, bool):
                 out[name] = (float(v), None)
             else:

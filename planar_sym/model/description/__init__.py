@@ -25,7 +25,9 @@ Top level: ``name`` (an identifier), ``title``, ``gravity = [gx, gy]`` in [units
 ``angle`` rad|deg, ``acceleration`` m/s^2|mm/s^2; all five required), ``[ground]`` with
 ``points = { NAME = [x, y] }`` (world coordinates, always), ``[[bodies]]``, ``[[joints]]``,
 ``[task]`` (``point = "body.point"``, optional ``orientation = "body"``), optional
-``[symbols]`` (parameter name = display string) and ``notes``. Two optional top-level keys say
+``[symbols]`` (parameter name = display string) and ``notes``. Any number may be typed as an
+expression in a string (``"100*cos(30*deg)"``), with names from an optional top-level
+``[constants]`` table (``planar_sym.expressions`` has the rules). Two optional top-level keys say
 how the drawn pose is given:
 
 ``pose = "world"`` (the default; the seed's tables)

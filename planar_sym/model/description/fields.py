@@ -1,6 +1,13 @@
 """Field validators: each reads one value of the TOML data, records a problem naming the file,
 the field and the value when it is wrong, and returns None (or a neutral value) so the checks go
-on and every problem is reported at once."""
+on and every problem is reported at once.
+
+Numbers may be typed as expressions (``planar_sym.expressions``). They are evaluated once, before
+any check (``_expressions``), at the places the validator's schema names: every later stage
+(the plausibility checks read the raw points too) then sees the floats a typed decimal gives. A
+string there that is no expression is a ``Bad``, reported by ``_num`` or ``_vec`` where they
+check that field, like any other wrong value of it: one mistake, one message.
+"""
 
 from __future__ import annotations
 
@@ -8,13 +15,14 @@ import math
 import re
 from pathlib import Path
 
+from ...expressions import Bad, constants, numbers
 from ..units import SI, UNITS, factor
 from .quantities import QUANTITIES, doubt
 from .types import ZERO_SNAP_M
 
 NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 TOP_KEYS = {"name", "title", "units", "gravity", "ground", "bodies", "joints", "task", "symbols",
-            "notes", "assemble", "pose"}
+            "notes", "assemble", "pose", "constants"}
 UNIT_KEYS = {"length", "mass", "inertia", "angle", "acceleration"}
 BODY_KEYS = {"name", "mass", "izz", "cg", "cg_from", "points", "frame", "notes", "mass_at"}
 JOINT_KEYS = {"name", "type", "parent", "child", "actuated", "closes_loop", "angle", "notes",
@@ -37,6 +45,17 @@ class Fields:
 
     def err(self, fld: str, msg: str) -> None:
         self.problems.append(f"{self.path}: {fld}: {msg}")
+
+    def _expressions(self, schema) -> bool:
+        """Resolves ``[constants]`` and evaluates the strings at the number places of
+        ``schema`` (``expressions.numbers``) into ``self.data``; False after a problem in
+        ``[constants]`` (reported: every field using the constant would only repeat it)."""
+        names, problems = constants(self.data.get("constants"))
+        for fld, msg in problems:
+            self.err(fld, msg)
+        if not problems:
+            self.data = numbers(self.data, schema, names)
+        return not problems
 
     def warn(self, fld: str, msg: str) -> None:
         self.warnings.append(f"{self.path}: {fld}: {msg}")
@@ -69,6 +88,8 @@ class Fields:
         v = tbl.get(key)
         if v is None:
             self.err(fld, "missing")
+        elif isinstance(v, Bad):
+            self.err(fld, v.message)
         elif isinstance(v, bool) or not isinstance(v, (int, float)):
             self.err(fld, f"must be a number (got {v!r})")
         elif not finite(v):
@@ -88,6 +109,10 @@ class Fields:
         v = tbl.get(key)
         if v is None:
             self.err(fld, "missing")
+        elif isinstance(v, list) and any(isinstance(x, Bad) for x in v):
+            for x in v:
+                if isinstance(x, Bad):
+                    self.err(f"{fld}{x.index}", x.message)
         elif (not isinstance(v, list) or len(v) != 2
               or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)):
             self.err(fld, f"must be a list of two numbers [x, y] (got {v!r})")

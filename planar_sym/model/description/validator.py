@@ -4,11 +4,22 @@ then either a Description or one DescriptionError listing them all."""
 from __future__ import annotations
 
 from ...errors import DescriptionError
+from .actuators import ACTUATOR_KEYS
 from .assembly import assemble, place, tree_angles
 from .bodies import Bodies
 from .fields import NAME, TASK_KEYS, TOP_KEYS
 from .topology import Topology
 from .types import GROUND, Body, Description, Joint
+
+#: where a description takes numbers, for ``expressions.numbers``: 0 a number, 1 a list of
+#: numbers; a string there is an expression. Every ``_num`` and ``_vec`` field is here.
+NUMBERS = {
+    "gravity": 1,
+    "ground": {"points": {"*": 1}},
+    "bodies": [{"mass": 0, "izz": 0, "cg": 1, "points": {"*": 1}}],
+    "joints": [{"angle": 0, "displacement": 0, "axis": 1,
+                "actuator": {k: 0 for k in ACTUATOR_KEYS if k != "notes"}}],
+}
 
 
 class AnyBody(frozenset):
@@ -26,6 +37,9 @@ class Validator(Bodies, Topology):
         d = self.data
         for key in sorted(set(d) - TOP_KEYS):
             self.err(key, f"unknown key (known: {', '.join(sorted(TOP_KEYS))})")
+        if not self._expressions(NUMBERS):
+            raise DescriptionError(self.problems)
+        d = self.data
         name = self._str(d, "name", "name")
         if name and not NAME.match(name):
             self.err("name", f"must be an identifier (got {name!r})")

@@ -1,0 +1,167 @@
+"""Optimal-move studies (``kind = "optimal"``, issue 27 items 2, 4 and 6): the built-in
+cart-pole swing-up tracked by the time-varying LQR and balanced, a move run as an inverse
+study runs its motion (its torques re-computed by the inverse dynamics equal the solver's),
+a closed chain's move on its loops, and every mistake in the file named once."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import planar_sym as ps
+from planar_sym.study.checks import StudyError
+from planar_sym.study.spec import parse
+
+UP = 90.0
+
+
+def test_cart_pole_swing_up_balances_on_a_heavier_bob():
+    """The built-in study: least effort in 2 s under |F| <= 0.2 N (the plan), tracked on a
+    plant whose bob is 10 % heavier, then held: upright to 1e-5 rad, the cart back at 0 to
+    1e-5 m, the energy balance closed, the pole's error reported beside the cart's."""
+    res = ps.run_study("cart_pole_swing_up")
+    t, q2 = res.get("t").values, res.get("q", index=1).values
+    assert t[-1] == 5.0 and len(t) == 501
+    assert abs(q2[-1] - np.pi / 2) < 1e-5 and abs(res.get("q", index=0).values[-1]) < 1e-5
+    e1, e2 = res.get("e", index=0).values, res.get("e", index=1).values
+    assert np.abs(e1).max() < 5e-3 and np.abs(e2).max() < 5e-3  # 1.9 mm, 1.6 mrad seen
+    assert abs(e2[-1]) < 1e-5
+    # the plan's sentence and the tracking's, in the note and in the timing line
+    assert res.timing.startswith("optimal move (effort): 2 s") and "peak |tau| 0.2 N" in res.timing
+    assert "time-varying LQR" in res.note and "plant parameters differ: m_pole" in res.note
+    tau = res.get("tau", index=0).values
+    assert 0.2 <= np.abs(tau).max() < 0.25
+    balance = res.get("balance").values
+    assert np.abs(balance).max() < 1e-9 * max(np.abs(res.get("work").values).max(), 1e-3)
+
+
+def test_a_move_run_as_an_inverse_study_has_the_solvers_torques(tmp_path):
+    """serial_2dof, least effort in 0.8 s: the study's torques, from the inverse dynamics
+    along the move at its nodes, equal the solver's (CasADi's graph of the same functions)
+    and ps.optimal_move's called directly; resampled, the move passes through its nodes."""
+    path = tmp_path / "arm_move.toml"
+    path.write_text("""robot = "serial_2dof"
+kind = "optimal"
+[units]
+angle = "deg"
+[optimal]
+start = [0.0, 0.0]
+end = [60.0, -30.0]
+duration = 0.8
+intervals = 40
+""")
+    res = ps.run_study(path)
+    move = ps.optimal_move(ps.load("serial_2dof"), [0.0, 0.0], np.radians([60.0, -30.0]),
+                           duration_s=0.8, intervals=40)
+    tau = np.column_stack([res.get("tau", index=i).values for i in range(2)])
+    assert np.abs(tau - move.tau).max() <= 1e-9 * np.abs(move.tau).max()
+    assert "jload_joint1" in "".join(res.columns)  # an inverse study's joint loads
+    fine = ps.run_study(path, samples=81)  # every other sample is a node
+    q = fine.get("q", index=1).values
+    assert np.abs(q[::2] - move.trajectory.q[:, 1]).max() < 1e-12
+
+
+def test_a_closed_chain_move_stays_on_its_loops(tmp_path):
+    """five_bar_type1, fastest under 0.1 N*m per motor: on its loops at every sample (the
+    passive joints from them), the torques within the limit."""
+    path = tmp_path / "fb_fast.toml"
+    path.write_text("""robot = "five_bar_type1"
+kind = "optimal"
+[units]
+angle = "deg"
+[optimal]
+start = [118.8, 61.2]
+end = [92.8, 41.1]
+objective = "time"
+intervals = 30
+torque_limit = [0.1, 0.1]
+""")
+    res = ps.run_study(path)
+    robot = ps.load("five_bar_type1")
+    q = np.column_stack([res.get("q", index=i).values for i in range(robot.n)])
+    assert np.abs(robot.constraint(q)).max() < 1e-9
+    tau = np.column_stack([res.get("tau", index=i).values for i in robot.actuated])
+    assert np.abs(tau).max() <= 0.1 * (1 + 1e-6)
+    assert "optimal move (time)" in res.timing
+
+
+def test_the_cart_pole_plan_alone_is_the_solvers_nodes(tmp_path):
+    """A tree with a passive joint cannot be given a motion: without [control] the result is
+    the plan itself, said so, with the force the solver found at each node."""
+    path = tmp_path / "plan.toml"
+    path.write_text("""robot = "cart_pole"
+kind = "optimal"
+[units]
+angle = "deg"
+[optimal]
+start = [0.0, -90.0]
+end = [0.0, 90.0]
+objective = "time"
+intervals = 60
+torque_limit = [0.2]
+""")
+    res = ps.run_study(path)
+    assert "hinge passive: no joint loads" in res.note
+    assert np.abs(res.get("tau", index=0).values).max() == pytest.approx(0.2, rel=1e-6)
+    assert res.get("t").values[-1] == pytest.approx(1.58, abs=0.02)  # 1.583 s at 100
+
+
+BAD = [
+    ("[control]\nlaw = \"lqr\"\nr_weight = 1.0", "control.q_weight: missing"),
+    ("[control]\nlaw = \"pd\"\nkp = 1.0\nkd = 1.0\nq_weight = [1.0]",
+     "control.q_weight: only for law = \"lqr\""),
+    ("[control]\nlaw = \"lqr\"\nkp = 1.0\nq_weight = 1.0\nr_weight = 1.0",
+     "control.kp: not used by law = \"lqr\""),
+    ("[motion]\nspace = \"joint\"", "motion: not for kind = \"optimal\""),
+]
+
+
+@pytest.mark.parametrize("extra, message", BAD)
+def test_mistakes_in_the_file_are_named_once(extra, message):
+    text = ("robot = \"cart_pole\"\nkind = \"optimal\"\n[optimal]\nstart = [0.0, -1.5]\n"
+            "end = [0.0, 1.5]\nduration = 2.0\n" + extra)
+    import tomllib
+
+    with pytest.raises(StudyError) as err:
+        parse(tomllib.loads(text), "bad")
+    assert message in str(err.value) and len(err.value.problems) == 1, err.value.problems
+
+
+def test_optimal_table_errors():
+    import tomllib
+
+    for text, message in [
+        ("kind = \"inverse\"\n[motion]\nspace = \"joint\"\nstart = [0.0]\nby = [1.0]\n"
+         "duration = 1.0\n[optimal]\nstart = [0.0]\nend = [1.0]", "optimal: only for kind"),
+        ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0, 2.0]\nduration = 1.0",
+         "optimal.end: must have 1 values"),
+        ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0]\nobjective = \"time\"\n"
+         "duration = 1.0", "optimal.duration: not used by objective = \"time\""),
+        ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0]", "optimal.duration"),
+    ]:
+        with pytest.raises(StudyError) as err:
+            parse(tomllib.loads("robot = \"cart_pole\"\n" + text), "bad")
+        assert message in str(err.value) and len(err.value.problems) == 1, err.value.problems
+
+
+def test_a_start_of_the_wrong_width_names_the_field(tmp_path):
+    path = tmp_path / "wide.toml"
+    path.write_text("robot = \"cart_pole\"\nkind = \"optimal\"\n[optimal]\nstart = [0.0, -1.5, "
+                    "0.0]\nend = [0.0, 1.5, 0.0]\nduration = 2.0\n")
+    with pytest.raises(ps.InputError, match="wide.toml: optimal.start: cart_pole needs 2 "
+                                            "values, one per coordinate"):
+        ps.run_study(path)
+
+
+def test_the_command_line_runs_it(tmp_path):
+    out = subprocess.run([sys.executable, "-m", "planar_sym", "run", "cart_pole_swing_up",
+                          "--out", str(tmp_path), "--samples", "101"], capture_output=True,
+                         text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert "optimal move (effort): 2 s" in out.stdout and "tracking error: max e1" in out.stdout
+    header = (tmp_path / "cart_pole_swing_up.csv").read_text().splitlines()[0].split(",")
+    assert header[:3] == ["t_s", "q1_m", "q2_rad"] and "e2_rad" in header
+    assert (tmp_path / "cart_pole_swing_up.gif").is_file()
