@@ -11,6 +11,7 @@ import pytest
 from scipy.optimize import minimize
 
 import planar_sym as ps
+from conftest import ROOT
 from planar_sym.errors import InputError
 from planar_sym.optimal.point_to_point import initial_guess
 
@@ -150,3 +151,48 @@ def test_refusals_name_the_mistake():
     fb = ps.load("five_bar_type1")
     with pytest.raises(InputError, match="q_start is off five_bar_type1's loops"):
         ps.optimal_move(fb, np.zeros(4), [0.0, 0.0], duration_s=1.0)
+
+
+def test_a_weak_motor_swings_the_pendulum_up_in_the_least_time():
+    """A motor of 1.5 N*m cannot hold the rod horizontal (m g l = 3.68 N*m): the fastest move
+    from hanging to upright is a swing, which IPOPT does not find from the cubic guess; the
+    least-effort move within the limit over a growing duration gives it a start. It is no
+    slower than a least-effort swing of 2 s within the same limit, holds the limit, and its
+    torque is on the limit at most nodes (bang-bang)."""
+    rod = ps.load("tests/robots/pendulum.toml")
+    ends = ([-np.pi / 2], [np.pi / 2])
+    swing = ps.optimal_move(rod, *ends, objective="effort", duration_s=2.0, torque_limit=[1.5],
+                            intervals=80)
+    fast = ps.optimal_move(rod, *ends, objective="time", torque_limit=[1.5], intervals=80)
+    assert fast.duration_s < swing.duration_s and fast.duration_s == pytest.approx(1.819,
+                                                                                  abs=0.01)
+    jt = fast.trajectory
+    start = rod.inverse_dynamics(jt.q[:-1], jt.qd[:-1], jt.qdd[:-1])[:, 0]
+    end = rod.inverse_dynamics(jt.q[1:], jt.qd[1:], jt.qdd[:-1])[:, 0]  # same accelerations
+    assert np.abs(start - fast.tau[:-1, 0]).max() < 1e-9 and max(
+        np.abs(start).max(), np.abs(end).max()) <= 1.5 * (1 + 1e-6)
+    on = np.maximum(np.abs(start), np.abs(end)) > 1.5 * (1 - 1e-4)  # at one end at least
+    assert on.mean() > 0.8
+
+
+def test_the_motors_limits_through_the_gears_are_the_default(tmp_path):
+    """No limits given: the fastest move keeps each motor's torque (tau / N) and speed (N qd)
+    within the description's motor limits, as actuator sizing (a separate reader of the same
+    drive train) reports them, and reaches one of them."""
+    from planar_sym.dynamics.sizing import size
+
+    text = (ROOT / "tests" / "robots" / "actuated_2dof.toml").read_text()
+    text = text.replace("motor_torque_limit = 0.02", "motor_torque_limit = 0.01")
+    text = text.replace("gear_ratio = 30\nrotor_inertia = 0.3\n", "gear_ratio = 30\nrotor_"
+                        "inertia = 0.3\nmotor_torque_limit = 0.003\nmotor_speed_limit_rpm = 300\n")
+    path = tmp_path / "motors.toml"
+    path.write_text(text)
+    arm = ps.load(path)
+    move = ps.optimal_move(arm, [0.0, 0.5], [1.0, -0.5], objective="time", intervals=30)
+    jt = move.trajectory
+    sized = size(arm, jt.t_s, jt.qd, move.tau)
+    assert not any(s.exceeded for s in sized), [s.exceeded for s in sized]
+    motor_torque = [s.peak_motor_torque_n_m / lim for s, lim in zip(sized, (0.01, 0.003))]
+    motor_speed = [s.peak_motor_speed_rpm / lim for s, lim in zip(sized, (3000, 300))]
+    assert max(motor_torque + motor_speed) == pytest.approx(1.0, abs=1e-6)
+    assert max(motor_torque + motor_speed) <= 1.0 + 1e-6

@@ -349,3 +349,11 @@ def test_the_table():
          "| within |"),
         ("| slide | 1571 | 40 / 28.28 N | 0.02546 / 0.018 | 0.02 m/s | 300 | 0.8 / 0.2546 | "
          "0.5093 | slide: first sentence; slide: second sentence |")]
+
+
+def test_a_value_on_its_limit_to_a_solvers_accuracy_is_within():
+    """An optimal motion rides its limits to its solver's accuracy: |tau| = 5 N*m against a
+    limit 1e-7 below (relative) is on it; 1e-5 below, it is over."""
+    assert _one(T5, TAU5, QD5, ratio=4.0, torque=5.0 / (1 + 1e-7)).exceeded == ()
+    over = _one(T5, TAU5, QD5, ratio=4.0, torque=5.0 / (1 + 1e-5))
+    assert len(over.exceeded) == 1 and "joint torque exceeds" in over.exceeded[0]

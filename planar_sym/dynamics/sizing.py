@@ -81,6 +81,11 @@ class ActuatorSizing:
         return self.peak_motor_speed_rad_s * RPM
 
 
+#: a value this far (relative) above its limit is on it, not over it: an optimal motion rides
+#: its limits to its solver's accuracy (IPOPT's constraint violation, about 1e-8)
+ON_LIMIT = 1e-6
+
+
 def _rms(t: np.ndarray, v: np.ndarray) -> float:
     span = t[-1] - t[0]
     if len(t) < 2 or span <= 0:
@@ -90,10 +95,10 @@ def _rms(t: np.ndarray, v: np.ndarray) -> float:
 
 def _first_over(t: np.ndarray, v: np.ndarray, limit: float | None, what: str,
                 unit: str, scale: float = 1.0) -> list[str]:
-    """The sentence for a limit ``v`` exceeds (|v| > limit), or nothing."""
+    """The sentence for a limit ``v`` exceeds (|v| > limit beyond ``ON_LIMIT``), or nothing."""
     if limit is None:
         return []
-    over = np.abs(v) > limit
+    over = np.abs(v) > limit * (1 + ON_LIMIT)
     if not over.any():
         return []
     k = int(np.argmax(over))

@@ -34,9 +34,12 @@ import numpy as np
 from ..errors import InputError, SimulationError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
-from .limits import speed_limits, torque_limits
+from .limits import description_speed_limits, speed_limits, torque_limits
 
 OBJECTIVES = ("time", "effort")
+#: durations tried (1 s, doubling) for a first move within the limits when the fastest move
+#: cannot be found from a cubic
+WARM_TRIES = 6
 
 
 @dataclass(frozen=True)
@@ -63,13 +66,12 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     a closed chain's actuated coordinates, or every one on the loops), rad (m at a slider).
 
     ``objective``: "time" (needs ``torque_limit``) or "effort" (needs ``duration_s``);
-    ``torque_limit`` (actuated,) N*m (N), default the description's where it gives one;
-    ``speed_limit`` (n,) rad/s (m/s), optional; ``intervals``: the grid.
+    ``torque_limit`` (actuated,) N*m (N), default the description's where it gives one
+    (joint or motor through the gear: ``optimal.limits``); ``speed_limit`` (n,) rad/s (m/s),
+    default the description's motor speed limits, if any; ``intervals``: the grid.
 
     Raises InputError for a bad request, SimulationError when IPOPT finds no solution.
     """
-    import casadi as ca
-
     if objective not in OBJECTIVES:
         raise InputError(f"objective must be one of {', '.join(OBJECTIVES)} (got {objective!r})")
     if not isinstance(intervals, (int, np.integer)) or not 2 <= intervals <= 10_000:
@@ -81,10 +83,53 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     if objective == "effort" and (duration_s is None or not duration_s > 0):
         raise InputError("objective \"effort\" needs duration_s > 0 (s)")
     own = act if closed else list(range(n))  # the coordinates integrated
-    pas = [i for i in range(n) if i not in act]
     a0, a1 = (_ends(robot, q, name, own) for q, name in ((q_start, "q_start"),
                                                          (q_end, "q_end")))
-    N, p = int(intervals), ca.DM(robot.p)
+    v = (description_speed_limits(robot) if speed_limit is None
+         else speed_limits(robot, speed_limit))
+    try:
+        return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals))
+    except SimulationError as first:
+        if objective != "time":
+            raise
+        failed = first
+    # the fastest move from a cubic guess can fail where the limits ask for a swing (a weak
+    # motor and gravity): first any move within them, the least effort over a duration that
+    # doubles until one is found, then the fastest from it (no slower than that one)
+    duration = 1.0
+    for _ in range(WARM_TRIES):
+        try:
+            warm = _within_limits(robot, a0, a1, duration, lim, v, int(intervals))
+        except SimulationError:
+            duration *= 2.0
+            continue
+        try:
+            return _solve(robot, a0, a1, "time", None, lim, v, int(intervals), warm)
+        except SimulationError:
+            break
+    raise failed
+
+
+def _within_limits(robot: Robot, a0, a1, duration: float, lim, v, N: int) -> OptimalMove:
+    """The least-effort move of ``duration`` (s) within the limits: from a cubic, or where that
+    fails, from the least-effort move without limits (always one). Raises SimulationError."""
+    try:
+        return _solve(robot, a0, a1, "effort", duration, lim, v, N)
+    except SimulationError:
+        free = _solve(robot, a0, a1, "effort", duration, None, None, N)
+        return _solve(robot, a0, a1, "effort", duration, lim, v, N, free)
+
+
+def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
+           warm: OptimalMove | None = None) -> OptimalMove:
+    """One IPOPT solve (see the module docstring); ``warm``: a move to start from (else a
+    cubic). Raises SimulationError when IPOPT finds no solution."""
+    import casadi as ca
+
+    n, act, closed = robot.n, list(robot.actuated), robot.is_closed_chain
+    own = act if closed else list(range(n))  # the coordinates integrated
+    pas = [i for i in range(n) if i not in act]
+    p = ca.DM(robot.p)
     opti = ca.Opti()
     T = opti.variable() if objective == "time" else float(duration_s)
     h = T / N
@@ -108,7 +153,6 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     opti.subject_to(Vi[:, 0] == 0)
     opti.subject_to(Vi[:, N] == 0)
     f_id = robot.casadi_function("closed_inverse_dynamics" if closed else "inverse_dynamics")
-    v = None if speed_limit is None else speed_limits(robot, speed_limit)
 
     def torque(node: int, k: int, end: bool):
         """The actuated torques at ``node`` with interval ``k``'s accelerations (a closed
@@ -141,11 +185,16 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     taus = starts + ends[-1:]
     if objective == "time":
         opti.subject_to(T >= 1e-6)
+        if warm is not None:  # no slower than the move it starts from
+            opti.subject_to(T <= warm.duration_s)
         opti.minimize(T)
     else:
         opti.minimize(h / 2 * (ca.sumsqr(ca.horzcat(*starts)) + ca.sumsqr(ca.horzcat(*ends))))
-    _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T,
-           duration_s)
+    if warm is None:
+        _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T,
+               duration_s)
+    else:
+        _warm(opti, warm, own, pas, closed, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T)
     opti.solver("ipopt", {"print_time": False},
                 {"print_level": 0, "sb": "yes", "tol": 1e-10, "max_iter": 3000})
     start = time.perf_counter()
@@ -197,6 +246,21 @@ def _ends(robot: Robot, q, name: str, own: list[int]) -> np.ndarray:
                          f"{'actuated' if robot.is_closed_chain else 'every'} coordinates of "
                          f"{robot.name}) or {robot.n}, got {np.asarray(q).tolist()}")
     return arr
+
+
+def _warm(opti, warm: OptimalMove, own, pas, closed, Qi, Vi, Ai, Qp, Vp, Ap, T) -> None:
+    """Start from another solution on the same grid (its duration if the time is free)."""
+    jt = warm.trajectory
+    opti.set_initial(Qi, jt.q[:, own].T)
+    opti.set_initial(Vi, jt.qd[:, own].T)
+    opti.set_initial(Ai, jt.qdd[:-1, own].T)
+    if closed:
+        opti.set_initial(Qp, jt.q[:, pas].T)
+        opti.set_initial(Vp, jt.qd[:, pas].T)
+        for var in Ap:
+            opti.set_initial(var, jt.qdd[:-1, pas].T)
+    if not isinstance(T, float):
+        opti.set_initial(T, warm.duration_s)
 
 
 def _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, Ap, T, duration_s

@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import InputError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
-from .limits import speed_limits, torque_limits
+from .limits import description_speed_limits, speed_limits, torque_limits
 
 #: slack on a constraint at a vertex of a linear program (relative to its right-hand side)
 TOL = 1e-9
@@ -52,7 +52,8 @@ def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
     """The fastest rest-to-rest timing of ``path`` (its samples, in order; any timing, e.g.
     ``ps.inverse_kinematics`` of a task move) under ``|tau_k| <= torque_limit[k]`` (N*m, N at
     a slider; one per actuated joint, default the description's ``torque_limit``) and
-    ``|qd_j| <= speed_limit[j]`` (rad/s, m/s; one per coordinate, optional).
+    ``|qd_j| <= speed_limit[j]`` (rad/s, m/s; one per coordinate; default the description's
+    motor speed limits through the gears, if any: ``optimal.limits``).
 
     Raises InputError when a limit is missing or not positive, the robot has friction, or the
     path cannot be followed within the limits (naming the first sample).
@@ -77,8 +78,9 @@ def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
     a = _torques(robot, q, zero, q_s) - c
     b = _torques(robot, q, q_s, q_ss) - c
     x_max = np.full(len(s), np.inf)
-    if speed_limit is not None:
-        v = speed_limits(robot, speed_limit)
+    v = (description_speed_limits(robot) if speed_limit is None
+         else speed_limits(robot, speed_limit))
+    if v is not None:
         with np.errstate(divide="ignore"):
             x_max = np.min((v / np.abs(q_s)) ** 2, axis=1)
     ds = np.diff(s)
