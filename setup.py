@@ -133,7 +133,8 @@ def _packages() -> tuple[list[str], dict[str, list[str]]]:
                 *[f"planar_sym.generated.{r}" for r in robots]]
     data = {"planar_sym": ["py.typed"], "planar_sym.model": ["*.c", "*.pyi"],
             "planar_sym.dynamics": ["*.c"], "planar_sym.motion": ["*.c"],
-            "planar_sym.robots": ["*.toml"], "planar_sym.studies": ["*.toml"]}
+            "planar_sym.robots": ["*.toml"], "planar_sym.studies": ["*.toml"],
+            "planar_sym.schemas": ["*.json"]}
     data.update({f"planar_sym.generated.{r}": ["*.c", "*.h", "*.json", "*.txt", "*.tex", "*.md",
                                                "*.casadi"] for r in robots})
     return packages, data

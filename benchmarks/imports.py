@@ -44,7 +44,7 @@ def run(cfg: Config) -> Section:
     load("serial_2dof")  # compiled into the cache before timing: first torque is not a build
     sec = Section("imports", "4. Import and first-torque latency", __doc__.split("\n\n", 1)[1])
     st = once_each({k: _cmd(v) for k, v in COMMANDS.items()}, repeats=cfg.import_repeats)
-    t = Table(f"Fresh interpreter, `{sys.executable} -c ...` ({cfg.import_repeats} rounds); "
+    t = Table(f"Fresh interpreter, `python -c ...` ({cfg.import_repeats} rounds); "
               f"ratio to `{BASE}` in the same round", ["command", "wall time", "ratio"])
     for k in COMMANDS:
         t.add(f"`{k}`", st[k], ratio(st[k], st[BASE]) if k != BASE else "1")

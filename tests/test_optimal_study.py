@@ -141,6 +141,8 @@ def test_optimal_table_errors():
         ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0]\nobjective = \"time\"\n"
          "duration = 1.0", "optimal.duration: not used by objective = \"time\""),
         ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0]", "optimal.duration"),
+        ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0]\nobjective = \"fast\"\n"
+         "duration = 1.0", "optimal.objective: must be one of time, effort"),
     ]:
         with pytest.raises(StudyError) as err:
             parse(tomllib.loads("robot = \"cart_pole\"\n" + text), "bad")

@@ -105,6 +105,8 @@ def test_wheel_holds_the_runtime(wheel):
     assert "planar_sym/_derive/codegen.py" in names
     assert "planar_sym/py.typed" in names and "planar_sym/model/_fastcall.pyi" in names
     assert "planar_sym/generated/parallel_3rrr/inverse_dynamics.casadi" in names
+    for fmt in ("description", "study"):  # the formats' JSON Schemas, for editors
+        assert f"planar_sym/schemas/{fmt}.schema.json" in names
     for stem in ("model/_fastcall", "dynamics/_integrate", "motion/_newton"):
         assert any(n.startswith(f"planar_sym/{stem}.") and n.endswith((".so", ".pyd"))
                    for n in names), stem

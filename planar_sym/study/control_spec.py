@@ -38,6 +38,13 @@ LAWS = ("pd", "computed_torque", "lqr", "none")
 CONTROL_METHODS = ("dopri5", "cvodes", "idas")
 INTERPOLATIONS = ("hold", "linear", "cubic", "pchip")
 TORQUE_PROFILES = ("cubic", "quintic")
+#: what ``on_joint_limit`` and ``on_actuator_limit`` may do
+ON_LIMIT = ("stop", "continue")
+#: the two tables an input torque may be: a CSV file, or a profile
+TORQUE_FILE_KEYS = {"file", "interpolation"}
+TORQUE_PROFILE_KEYS = {"profile", "start", "end", "duration"}
+#: integers of [control]: (default, lowest, highest)
+CONTROL_INTEGERS = {"samples": (501, 2, 1_000_000)}
 _CONTROL = {"law", "kp", "kd", "natural_frequency_hz", "damping", "saturate", "duration",
             "samples", "start_error", "torque", "method", "rtol", "atol", "plant", "q_weight",
             "r_weight"}
@@ -128,7 +135,7 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
     duration = None
     if "duration" in tbl:
         duration = c.number(tbl, "duration", "control.duration", positive=True, limit=1e6)
-    samples = c.integer(tbl, "samples", "control.samples", 501, 2, 1_000_000)
+    samples = c.integer(tbl, "samples", "control.samples", *CONTROL_INTEGERS["samples"])
     start_error = c.vector(tbl, "start_error", "control.start_error")
     method = c.choice(tbl, "method", "control.method", CONTROL_METHODS, "dopri5")
     rtol = c.number(tbl, "rtol", "control.rtol", positive=True, default=1e-10)
@@ -156,13 +163,13 @@ def parse_torque(c: Checker, raw, fld: str) -> TorqueInput | None:
         vec = c.vector({"t": raw}, "t", fld)
         return TorqueInput(constant=vec) if vec is not None else None
     if isinstance(raw, dict) and "file" in raw:
-        c.keys(raw, {"file", "interpolation"}, f"{fld}.")
+        c.keys(raw, TORQUE_FILE_KEYS, f"{fld}.")
         path = c.file(raw["file"], f"{fld}.file")
         interp = c.choice(raw, "interpolation", f"{fld}.interpolation", INTERPOLATIONS,
                           "linear")
         return TorqueInput(file=path, interpolation=interp or "linear") if path else None
     if isinstance(raw, dict) and "profile" in raw:
-        c.keys(raw, {"profile", "start", "end", "duration"}, f"{fld}.")
+        c.keys(raw, TORQUE_PROFILE_KEYS, f"{fld}.")
         prof = c.choice(raw, "profile", f"{fld}.profile", TORQUE_PROFILES)
         start = c.vector(raw, "start", f"{fld}.start", required=True)
         end = c.vector(raw, "end", f"{fld}.end", required=True)
@@ -196,8 +203,7 @@ def parse_events(c: Checker, tbl: dict) -> EventsSpec:
             c.err(fld, f"lower must be below upper (got {v!r})")
         else:
             limits[name] = (float(v[0]), float(v[1]))
-    on_joint = c.choice(tbl, "on_joint_limit", "events.on_joint_limit", ("stop", "continue"),
-                        "stop")
-    on_act = c.choice(tbl, "on_actuator_limit", "events.on_actuator_limit",
-                      ("stop", "continue"), "continue")
+    on_joint = c.choice(tbl, "on_joint_limit", "events.on_joint_limit", ON_LIMIT, "stop")
+    on_act = c.choice(tbl, "on_actuator_limit", "events.on_actuator_limit", ON_LIMIT,
+                      "continue")
     return EventsSpec(limits, on_joint or "stop", on_act or "continue")

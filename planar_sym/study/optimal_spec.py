@@ -25,6 +25,8 @@ from .checks import Checker
 _OPTIMAL = {"start", "end", "objective", "duration", "intervals", "torque_limit",
             "speed_limit"}
 MAX_INTERVALS = 10_000
+#: integers of [optimal]: (default, lowest, highest)
+OPTIMAL_INTEGERS = {"intervals": (100, 2, MAX_INTERVALS)}
 
 
 @dataclass(frozen=True)
@@ -51,10 +53,10 @@ def parse_optimal(c: Checker, tbl: dict) -> OptimalSpec | None:
     duration = None
     if objective == "effort":
         duration = c.number(tbl, "duration", "optimal.duration", positive=True, limit=1e6)
-    elif "duration" in tbl:
+    elif objective == "time" and "duration" in tbl:
         c.err("optimal.duration", "not used by objective = \"time\" (the time is what it "
                                   "finds)")
-    intervals = c.integer(tbl, "intervals", "optimal.intervals", 100, 2, MAX_INTERVALS)
+    intervals = c.integer(tbl, "intervals", "optimal.intervals", *OPTIMAL_INTEGERS["intervals"])
     limits = {}
     for key in ("torque_limit", "speed_limit"):
         v = c.vector(tbl, key, f"optimal.{key}")

@@ -64,6 +64,7 @@ from ..expressions import ExpressionError, quantity
 from ..model.units import factor
 from .checks import Checker, StudyError, finite
 from .control_spec import (
+    CONTROL_INTEGERS,
     ControlSpec,
     EventsSpec,
     TorqueInput,
@@ -71,9 +72,11 @@ from .control_spec import (
     parse_events,
     parse_torque,
 )
-from .optimal_spec import OptimalSpec, parse_optimal
+from .optimal_spec import OPTIMAL_INTEGERS, OptimalSpec, parse_optimal
 
 KINDS = ("inverse", "forward", "control", "optimal")
+#: ``motion.space``: task coordinates (x, y[, phi]) or joint coordinates
+SPACES = ("task", "joint")
 PROFILES = ("cubic", "quintic", "trapezoid", "via", "table")
 SOLVERS = ("auto", "seed", "newton")
 METHODS = ("dopri5", "cvodes", "idas", "DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
@@ -82,6 +85,14 @@ ANIMATIONS = ("gif", "mp4")
 MAX_SAMPLES = 1_000_000
 MAX_DURATION_S = 1e6
 MAX_FRAMES = 2000
+#: where a study takes integers: (default, lowest, highest), as ``NUMBERS`` is laid out
+INTEGERS = {
+    "motion": {"samples": (201, 2, MAX_SAMPLES)},
+    "simulation": {"samples": (1001, 2, MAX_SAMPLES)},
+    "outputs": {"frames": (60, 2, MAX_FRAMES)},
+    "control": CONTROL_INTEGERS,
+    "optimal": OPTIMAL_INTEGERS,
+}
 
 _TOP = {"title", "robot", "kind", "units", "parameters", "motion", "simulation", "outputs", "notes",
         "control", "events", "optimise", "optimal", "constants"}
@@ -289,10 +300,10 @@ class _Checker(Checker):
 
     def motion(self, m: dict) -> Motion | None:
         self.keys(m, _MOTION, "motion.")
-        space = self.choice(m, "space", "motion.space", ("task", "joint"))
+        space = self.choice(m, "space", "motion.space", SPACES)
         profile = self.choice(m, "profile", "motion.profile", PROFILES, "cubic")
         ik = self.choice(m, "ik", "motion.ik", SOLVERS, "auto")
-        samples = self.integer(m, "samples", "motion.samples", 201, 2, MAX_SAMPLES)
+        samples = self.integer(m, "samples", "motion.samples", *INTEGERS["motion"]["samples"])
         start_pose = self.vector(m, "start_pose", "motion.start_pose")
         if space == "joint" and "ik" in m:
             self.err("motion.ik", "only for space = \"task\" (a joint-space motion needs no "
@@ -370,7 +381,8 @@ class _Checker(Checker):
         qd0 = self.vector(s, "qd0", "simulation.qd0")
         duration = self.number(s, "duration", "simulation.duration", positive=True,
                                limit=MAX_DURATION_S)
-        samples = self.integer(s, "samples", "simulation.samples", 1001, 2, MAX_SAMPLES)
+        samples = self.integer(s, "samples", "simulation.samples",
+                               *INTEGERS["simulation"]["samples"])
         method = self.choice(s, "method", "simulation.method", METHODS, "dopri5")
         rtol = self.number(s, "rtol", "simulation.rtol", positive=True, default=1e-11)
         atol = self.number(s, "atol", "simulation.atol", positive=True, default=1e-12)
@@ -404,4 +416,4 @@ class _Checker(Checker):
                        self.flag(o, "plot", "outputs.plot", True),
                        self.flag(o, "split", "outputs.split", False),
                        anim or None,
-                       self.integer(o, "frames", "outputs.frames", 60, 2, MAX_FRAMES))
+                       self.integer(o, "frames", "outputs.frames", *INTEGERS["outputs"]["frames"]))

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from .fields import BODY_KEYS, NAME, snap
+from .fields import BODY_KEYS, GROUND_KEYS, NAME, snap
 from .plausibility import Plausibility
 from .quantities import inertia_doubt, mass_doubt
 from .types import CLOSURE_TOLERANCE_M, GROUND, GYRATION_LIMIT, Body
@@ -25,8 +25,8 @@ class Bodies(Plausibility):
         if not isinstance(g, dict):
             self.err("ground", "missing table [ground] with its points (world frame)")
             return None
-        for key in sorted(set(g) - {"points", "notes"}):
-            self.err(f"ground.{key}", "unknown key (known: points, notes)")
+        for key in sorted(set(g) - set(GROUND_KEYS)):
+            self.err(f"ground.{key}", f"unknown key (known: {', '.join(GROUND_KEYS)})")
         before = len(self.problems)
         pts = self._points(g.get("points"), "ground.points", scale.get("length"))
         if len(self.problems) > before:

@@ -30,6 +30,8 @@ JOINT_KEYS = {"name", "type", "parent", "child", "actuated", "closes_loop", "ang
 #: joint types: a revolute or prismatic joint is a coordinate (or a cut), a weld is rigid
 JOINT_TYPES = ("revolute", "prismatic", "weld")
 TASK_KEYS = {"point", "orientation"}
+#: keys of ``[ground]``, in the order its message names them
+GROUND_KEYS = ("points", "notes")
 #: ``pose``: how points are given. world: world coordinates of the drawn pose (the seed's
 #: tables); joints: each body in its own frame, placed by approximate joint angles
 POSES = ("world", "joints")
