@@ -285,7 +285,9 @@ def _actuators(desc: Description) -> list[dict]:
                     "gear_ratio": a.gear_ratio if a else 1.0,
                     "torque_limit": a.torque_limit if a else None,
                     "motor_torque_limit": a.motor_torque_limit if a else None,
-                    "motor_speed_limit_rad_s": a.motor_speed_limit_rad_s if a else None})
+                    "motor_speed_limit_rad_s": a.motor_speed_limit_rad_s if a else None,
+                    "torque_constant": a.torque_constant if a else None,
+                    "winding_resistance": a.winding_resistance if a else None})
     return out
 
 

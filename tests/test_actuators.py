@@ -128,6 +128,10 @@ def _bad(tmp_path, old: str, new: str):
     ("motor_speed_limit_rpm = 3000", "motor_speed_limit_rpm = -1",
      "actuator.motor_speed_limit_rpm", "must be > 0"),
     ("gear_ratio = 50", "gear = 50", "actuator.gear", "unknown key"),
+    ("gear_ratio = 50", "gear_ratio = 50\ntorque_constant = 0.05", "actuator.torque_constant",
+     "only with winding_resistance"),
+    ("gear_ratio = 50", "gear_ratio = 50\nwinding_resistance = 1.0\ntorque_constant = 0",
+     "actuator.torque_constant", "must be > 0"),
 ])
 def test_bad_actuators(tmp_path, old, new, field, message):
     problems = _bad(tmp_path, old, new)

@@ -196,3 +196,68 @@ def test_the_motors_limits_through_the_gears_are_the_default(tmp_path):
     motor_speed = [s.peak_motor_speed_rpm / lim for s, lim in zip(sized, (3000, 300))]
     assert max(motor_torque + motor_speed) == pytest.approx(1.0, abs=1e-6)
     assert max(motor_torque + motor_speed) <= 1.0 + 1e-6
+
+
+SCREW = "\n[joints.actuator]\ngear_ratio = 628.3185307179587  # a 10 mm lead screw, rad/m\n" \
+        "torque_constant = 0.05  # N*m/A\nwinding_resistance = 1.2  # ohm\n"
+
+
+def test_least_energy_on_a_level_rail_is_the_closed_form(tmp_path):
+    """A 2 kg cart driven through a screw (N = 2 pi / 10 mm) by a motor (k_t 0.05 N*m/A, R 1.2
+    ohm) over 0.5 m in 1 s, rest to rest: the work done returns (a level rail), so the least
+    energy is the least copper loss R / (N k_t)^2 int F^2 dt with F = m a, a = 6 d / T^2
+    (1 - 2 t / T): E = R / (N k_t)^2 12 m^2 d^2 / T^3 = 0.0036476 J; the grid converges to it
+    at second order (constant accelerations per interval)."""
+    path = tmp_path / "screw_cart.toml"
+    path.write_text(RAIL + SCREW)
+    cart = ps.load(path)
+    n_kt = 628.3185307179587 * 0.05
+    exact = 1.2 / n_kt**2 * 12 * 2.0**2 * 0.5**2 / 1.0**3
+    gaps = []
+    for intervals in (25, 50, 100):
+        move = ps.optimal_move(cart, [0.0], [0.5], objective="energy", duration_s=1.0,
+                               intervals=intervals)
+        gaps.append(move.objective - exact)
+    assert 0 < gaps[-1] < 1e-3 * exact
+    assert 3.5 < gaps[0] / gaps[1] < 4.5 and 3.5 < gaps[1] / gaps[2] < 4.5
+
+
+def test_least_energy_against_least_effort_under_gravity(tmp_path):
+    """The pendulum raised from hanging to horizontal in 0.6 s through a 50:1 gear: the energy
+    recomputed here from the move's own torques (at both ends of each interval) and the
+    description's figures is the objective; it is at least the potential energy gained; the
+    least-energy move uses less energy than the least-effort one, and more effort."""
+    text = (ROOT / "tests" / "robots" / "pendulum.toml").read_text()
+    assert text.count("actuated = true\n") == 1
+    text = text.replace("actuated = true\n", "actuated = true\n[joints.actuator]\ngear_ratio = "
+                        "50\ntorque_constant = 0.03\nwinding_resistance = 2.0\n")
+    path = tmp_path / "motor_pendulum.toml"
+    path.write_text(text)
+    rod = ps.load(path)
+    ends = ([-np.pi / 2], [0.0])
+    moves = {o: ps.optimal_move(rod, *ends, objective=o, duration_s=0.6, intervals=60)
+             for o in ("energy", "effort")}
+
+    def measures(move):
+        jt = move.trajectory
+        h = jt.t_s[1] - jt.t_s[0]
+        out = []
+        for a, b in ((slice(None, -1), slice(None, -1)), (slice(1, None), slice(None, -1))):
+            tau = rod.inverse_dynamics(jt.q[a], jt.qd[a], jt.qdd[b])[:, 0]
+            power = 2.0 / (50 * 0.03) ** 2 * tau**2 + tau * jt.qd[a][:, 0]
+            out.append((h / 2 * power.sum(), h / 2 * (tau**2).sum()))
+        return sum(e for e, _ in out), sum(f for _, f in out)
+
+    energy, effort = measures(moves["energy"])
+    assert energy == pytest.approx(moves["energy"].objective, rel=1e-9)
+    assert energy > 1.5 * 9.81 * 0.25  # m g l raised by l
+    other_energy, other_effort = measures(moves["effort"])
+    assert other_effort == pytest.approx(moves["effort"].objective, rel=1e-9)
+    assert energy < other_energy and effort > other_effort
+
+
+def test_energy_needs_the_motors_electrical_figures():
+    with pytest.raises(InputError, match="objective \"energy\" needs each motor's "
+                                         "torque_constant .* joint1, joint2 have none"):
+        ps.optimal_move(ps.load("serial_2dof"), [0.0, 0.0], [0.5, 0.5], objective="energy",
+                        duration_s=1.0)

@@ -139,3 +139,50 @@ def test_refusals_name_the_mistake(cart_pole, swing):
     other = ps.load("serial_2dof")
     with pytest.raises(InputError, match="designed for another robot"):
         simulate_controlled(other, swing[1].controller(), (0.0, 1.0), q0=[0.1, 0.2])
+
+
+def test_the_schedule_between_samples(cart_pole, swing):
+    """The compiled law's x_r, u_r and K between the samples, against SciPy's cubic Hermite
+    through (q, qd) (its derivative for qd) and straight lines for u and K, on a motion that
+    is not piecewise quadratic (the plan's samples moved by a smooth wave); at the samples
+    exactly the design's; after the end the hold's."""
+    from scipy.interpolate import CubicHermiteSpline
+
+    move, design = swing
+    jt = move.trajectory
+    t = jt.t_s  # a wave sin^2(pi t / 2) that starts and ends at rest
+    wave = np.sin(np.pi * t / 2)[:, None] ** 2 * [0.01, 0.02]
+    bent = JointTrajectory(t, jt.q + wave, jt.qd + (np.pi / 2 * np.sin(np.pi * t))[:, None]
+                           * [0.01, 0.02], jt.qdd)
+    d = ps.tvlqr(cart_pole, bent, move.tau, q_weight=Q_W, r_weight=R_W)
+    assert np.array_equal(d.t_s, jt.t_s) and d.gain.shape == (101, 1, 4)
+    sched = d.controller().schedule
+    mid = (jt.t_s[:-1] + jt.t_s[1:]) / 2
+    herm = CubicHermiteSpline(jt.t_s, bent.q, bent.qd)
+    got = sched(mid)
+    assert np.abs(got[:, :2] - herm(mid)).max() < 1e-12
+    assert np.abs(got[:, 2:4] - herm(mid, 1)).max() < 1e-9
+    assert np.abs(got[:, 4] - (move.tau[:-1, 0] + move.tau[1:, 0]) / 2).max() < 1e-14
+    k_mid = (d.gain[:-1, 0] + d.gain[1:, 0]) / 2
+    assert np.abs(got[:, 5:] - k_mid).max() < 1e-12 * np.abs(k_mid).max()
+    at = sched(jt.t_s[:-1])
+    assert np.abs(at[:, :2] - bent.q[:-1]).max() < 1e-14
+    assert np.abs(at[:, 5:] - d.gain[:-1, 0]).max() == 0
+    assert d.controller().saturate is True and d.controller(False).saturate is False
+
+
+def test_weights_and_samples_are_checked(cart_pole, swing):
+    move, _ = swing
+    jt = move.trajectory
+    with pytest.raises(InputError, match="motion must be a JointTrajectory \\(got ndarray\\)"):
+        ps.tvlqr(cart_pole, jt.q, move.tau, q_weight=Q_W, r_weight=R_W)
+    t = jt.t_s.copy()
+    t[5] = t[4]
+    with pytest.raises(InputError, match="the motion's times must increase"):
+        ps.tvlqr(cart_pole, JointTrajectory(t, jt.q, jt.qd, jt.qdd), move.tau, q_weight=Q_W,
+                 r_weight=R_W)
+    with pytest.raises(InputError, match="r_weight must be positive definite"):
+        ps.tvlqr(cart_pole, jt, move.tau, q_weight=Q_W, r_weight=0.0)
+    # a weight of 0 on a rate is allowed (semi-definite), and changes the gains
+    loose = ps.tvlqr(cart_pole, jt, move.tau, q_weight=[100.0, 100.0, 0.0, 1.0], r_weight=R_W)
+    assert np.abs(loose.gain - swing[1].gain).max() > 1e-3

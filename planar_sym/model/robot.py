@@ -71,7 +71,8 @@ class Robot(LoopFunctions):
     actuators : tuple of dict
         Per actuated coordinate: ``joint``, ``coordinate``, ``unit``, ``gear_ratio`` and the
         limits in SI (``torque_limit``, ``motor_torque_limit``, ``motor_speed_limit_rad_s``;
-        None where there is none).
+        None where there is none), and the motor's ``torque_constant`` (N*m/A) and
+        ``winding_resistance`` (ohm), None where not given.
     task_names : tuple of str
         The task coordinates (``x``, ``y`` in m, ``phi`` in rad), empty without a task point.
     body_names : tuple of str
@@ -121,7 +122,8 @@ class Robot(LoopFunctions):
         self.actuators: tuple[dict, ...] = tuple(m.get("actuators") or (
             {"joint": self.coordinates[i], "coordinate": i, "unit": "N*m", "model": False,
              "gear_ratio": 1.0, "torque_limit": None, "motor_torque_limit": None,
-             "motor_speed_limit_rad_s": None} for i in self.actuated))
+             "motor_speed_limit_rad_s": None, "torque_constant": None,
+             "winding_resistance": None} for i in self.actuated))
         self.q_drawn = np.array(m["q_drawn"])
         #: the one parameter value of this robot (checked once, read-only: a change makes a
         #: new Robot); the compiled callers read its vector in place

@@ -9,7 +9,11 @@ coordinates that are integrated move exactly as a double integrator's do:
     q_{k+1} = q_k + h qd_k + h^2/2 qdd_k,   qd_{k+1} = qd_k + h qdd_k
     tau = ID(q, qd, qdd_k) at both ends of interval k, within the limits; |qd_k| <= limits
     minimise  T (objective "time")  or  h sum_k (|tau_k,start|^2 + |tau_k,end|^2) / 2
-    (objective "effort", T given: the trapezoid over each interval)
+    (objective "effort", T given: the trapezoid over each interval), or the electrical
+    energy h sum_k (P_k,start + P_k,end) / 2 (objective "energy", T given), with the motors'
+    power P = sum_j R_j (tau_j / (N_j k_t,j))^2 + tau_j qd_j: the windings' losses and the
+    work done, which a regenerative drive takes back where it is negative (each motor's
+    torque constant k_t, winding resistance R and gear ratio N from the description)
 
 Evaluating each interval at both ends matters: at one end only, an arm under gravity could
 "fall freely" through each sample (zero torque there, any torque between), and the effort
@@ -36,7 +40,7 @@ from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from .limits import description_speed_limits, speed_limits, torque_limits
 
-OBJECTIVES = ("time", "effort")
+OBJECTIVES = ("time", "effort", "energy")
 #: durations tried (1 s, doubling) for a first move within the limits when the fastest move
 #: cannot be found from a cubic
 WARM_TRIES = 6
@@ -45,12 +49,12 @@ WARM_TRIES = 6
 @dataclass(frozen=True)
 class OptimalMove:
     """The solution: ``trajectory`` at the ``N + 1`` nodes (times ``t_s`` (N + 1,) in s;
-    ``q``, ``qd``, ``qdd`` each of shape (N + 1, n), ``qdd`` the interval's constant acceleration, the
-    last node repeating the last interval's), ``tau``
-    (N + 1, actuated) N*m (N at a slider) there (each interval's start; the last node: the
-    last interval's end), ``duration_s``, ``objective`` (s for "time",
-    N^2*m^2*s for "effort"), and IPOPT's report ``solver``: iterations, status, the largest
-    constraint violation and the solve time (s)."""
+    ``q``, ``qd``, ``qdd`` each of shape (N + 1, n), ``qdd`` the interval's constant
+    acceleration, the last node repeating the last interval's), ``tau`` (N + 1, actuated)
+    N*m (N at a slider) there (each interval's start; the last node: the last interval's
+    end), ``duration_s``, ``objective`` (s for "time", N^2*m^2*s for "effort", J for
+    "energy"), and IPOPT's report ``solver``: iterations, status, the largest constraint
+    violation and the solve time (s)."""
 
     trajectory: JointTrajectory
     tau: np.ndarray
@@ -65,7 +69,8 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     """The best rest-to-rest move from ``q_start`` to ``q_end`` (every coordinate of a tree;
     a closed chain's actuated coordinates, or every one on the loops), rad (m at a slider).
 
-    ``objective``: "time" (needs ``torque_limit``) or "effort" (needs ``duration_s``);
+    ``objective``: "time" (needs ``torque_limit``), "effort" or "energy" (need
+    ``duration_s``; "energy": each motor's ``torque_constant`` and ``winding_resistance``);
     ``torque_limit`` (actuated,) N*m (N), default the description's where it gives one
     (joint or motor through the gear: ``optimal.limits``); ``speed_limit`` (n,) rad/s (m/s),
     default the description's motor speed limits, if any; ``intervals``: the grid.
@@ -80,8 +85,10 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     lim = torque_limits(robot, torque_limit, (
         f"{robot.name}: objective \"time\" needs torque_limit (the description gives none for "
         "every actuator): one per actuated joint, N*m") if objective == "time" else None)
-    if objective == "effort" and (duration_s is None or not duration_s > 0):
-        raise InputError("objective \"effort\" needs duration_s > 0 (s)")
+    if objective in ("effort", "energy") and (duration_s is None or not duration_s > 0):
+        raise InputError(f"objective {objective!r} needs duration_s > 0 (s)")
+    if objective == "energy":
+        copper_losses(robot)  # refused here if a motor lacks its electrical figures
     own = act if closed else list(range(n))  # the coordinates integrated
     a0, a1 = (_ends(robot, q, name, own) for q, name in ((q_start, "q_start"),
                                                          (q_end, "q_end")))
@@ -173,11 +180,15 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
             opti.subject_to(opti.bounded(-lim, tau, lim))
         if v is not None:
             opti.subject_to(opti.bounded(-v, qd, v))
+        if copper is not None:  # the motors' electrical power there
+            powers.append(ca.dot(copper, tau**2) + ca.dot(tau, qd[act]))
         return tau
 
     # each interval's torques at its start and its end (the same constant accelerations):
     # the effort's trapezoid, and limits held at both ends
     passive: dict[int, list] = {}
+    powers: list = []  # starts then ends, as the torques
+    copper = None if objective != "energy" else ca.DM(copper_losses(robot))
     starts = [torque(k, k, False) for k in range(N)]
     ends = [torque(k + 1, k, True) for k in range(N)]
     for start, end in passive.values():  # the trapezoid: second order in the interval
@@ -188,6 +199,8 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
         if warm is not None:  # no slower than the move it starts from
             opti.subject_to(T <= warm.duration_s)
         opti.minimize(T)
+    elif objective == "energy":  # each interval's trapezoid of the power at its two ends
+        opti.minimize(h / 2 * ca.sum1(ca.vertcat(*powers)))
     else:
         opti.minimize(h / 2 * (ca.sumsqr(ca.horzcat(*starts)) + ca.sumsqr(ca.horzcat(*ends))))
     if warm is None:
@@ -298,3 +311,22 @@ def initial_guess(a0, a1, intervals: int, duration_s: float):
     qd = ((6 * s - 6 * s**2) / duration_s)[:, None] * d
     qdd = ((6 - 12 * mid) / duration_s**2)[:, None] * d
     return t, q, qd, qdd
+
+
+def copper_losses(robot: Robot) -> np.ndarray:
+    """Per actuated joint, R / (N k_t)^2 (W per (N*m)^2; per N^2 at a slider): the winding's
+    losses per squared joint torque, i = tau / (N k_t), from the description's drive train.
+    Raises InputError where a motor has no torque_constant and winding_resistance."""
+    out, missing = [], []
+    for act, drive in zip(robot.actuators, robot.drive_train.drives):
+        kt, r = act.get("torque_constant"), act.get("winding_resistance")
+        if kt is None or r is None:
+            missing.append(act["joint"])
+            continue
+        out.append(r / (drive.gear_ratio * kt) ** 2)
+    if missing:
+        raise InputError(f"{robot.name}: objective \"energy\" needs each motor's "
+                         "torque_constant (N*m/A) and winding_resistance (ohm) in its "
+                         f"[joints.actuator]; {', '.join(missing)} "
+                         f"{'has' if len(missing) == 1 else 'have'} none")
+    return np.array(out)

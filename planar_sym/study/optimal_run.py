@@ -54,7 +54,8 @@ def plan(st: specs.Study, robot: Robot):
         raise InputError(f"{where}: optimal: {exc}") from None
     s = move.solver
     kinds = {robot.coordinate_units[i] for i in act}  # "m": a slider's force, N
-    unit = ("s" if o.objective == "time" else "N^2*s" if kinds == {"m"} else
+    unit = ("s" if o.objective == "time" else "J" if o.objective == "energy" else
+            "N^2*s" if kinds == {"m"} else
             "N^2*m^2*s" if kinds == {"rad"} else "(N*m or N)^2*s")
     note = (f"optimal move ({o.objective}): {move.duration_s:.4g} s, objective "
             f"{move.objective:.6g} {unit}, peak |tau| "

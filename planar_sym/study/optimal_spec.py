@@ -8,8 +8,9 @@ which the study then runs as an inverse study runs its motion, or tracks under i
     [optimal]
     start = [0.0, -90.0]       # every coordinate of a tree, a closed chain's actuated ones
     end = [0.0, 90.0]          # (file's units: length for a slider, angle for a hinge)
-    objective = "effort"       # or "time" (needs torque_limit)
-    duration = 2.0             # s ("effort"; "time" finds it)
+    objective = "effort"       # or "time" (needs torque_limit), or "energy" (electrical:
+                               # each motor's torque_constant and winding_resistance)
+    duration = 2.0             # s ("effort", "energy"; "time" finds it)
     intervals = 100            # the collocation grid
     torque_limit = [0.2]       # N*m (N at a slider) per motor (default: the description's)
     speed_limit = [2.0, 720.0] # per coordinate, file's units per s (optional)
@@ -51,7 +52,7 @@ def parse_optimal(c: Checker, tbl: dict) -> OptimalSpec | None:
                              f"(got {len(end)})")
     objective = c.choice(tbl, "objective", "optimal.objective", OBJECTIVES, "effort")
     duration = None
-    if objective == "effort":
+    if objective in ("effort", "energy"):
         duration = c.number(tbl, "duration", "optimal.duration", positive=True, limit=1e6)
     elif objective == "time" and "duration" in tbl:
         c.err("optimal.duration", "not used by objective = \"time\" (the time is what it "
@@ -63,6 +64,6 @@ def parse_optimal(c: Checker, tbl: dict) -> OptimalSpec | None:
         if v is not None and not all(x > 0 for x in v):
             c.err(f"optimal.{key}", f"must be positive (got {list(v)})")
         limits[key] = v
-    if None in (start, end, objective) or (objective == "effort" and duration is None):
+    if None in (start, end, objective) or (objective != "time" and duration is None):
         return None
     return OptimalSpec(start, end, objective, duration, intervals, **limits)

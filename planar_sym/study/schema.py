@@ -424,9 +424,11 @@ def _study() -> dict:
                         f"chain's actuated ones, in {length}.")),
         "end": (NUM, f"The end state (at rest), in {length}."),
         "objective": (_enum(OBJECTIVES, "effort"),
-                      ("effort (default: in the given duration) or time (the fastest; needs "
+                      ("effort (default: in the given duration), energy (the motors' "
+                       "electrical energy in the given duration: each motor's "
+                       "torque_constant and winding_resistance) or time (the fastest; needs "
                        "torque limits).")),
-        "duration": (NUM, "Duration, s (> 0): objective = 'effort' only."),
+        "duration": (NUM, "Duration, s (> 0): objective = 'effort' or 'energy' only."),
         "intervals": (INT, "Intervals of the collocation grid."),
         "torque_limit": (NUM, ("Torque limits, N*m (N at a slider), one per motor, > 0 "
                                "(default: the description's).")),

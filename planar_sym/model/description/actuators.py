@@ -9,6 +9,8 @@ All optional; a joint without one is today's ideal torque (or force) source. In 
     D_j(qd) = b qd_j + c tanh(qd_j / v_s)          (viscous b, Coulomb c smoothed over v_s)
     M(q) qdd + C qd + g + D(qd) = S^T tau          (tau at the joint)
     motor torque tau / N, motor speed N qd_j       (an ideal gearbox)
+    current i = tau / (N k_t), electrical power R i^2 + tau qd   (torque constant k_t and
+                                                    winding resistance R: a DC motor)
 
 Figures are at the joint side, SI (N*m, N*m*s/rad; N, N*s/m for a prismatic joint, whose gear
 ratio is motor radians per metre of travel, a screw's 2 pi / lead); the rotor inertia is in
@@ -34,6 +36,8 @@ ACTUATOR_KEYS = {
     "torque_limit": "largest joint torque (force), N*m (N), > 0",
     "motor_torque_limit": "largest motor torque, N*m, > 0",
     "motor_speed_limit_rpm": "largest motor speed, rpm, > 0",
+    "torque_constant": "motor torque per ampere k_t, N*m/A, > 0",
+    "winding_resistance": "motor winding resistance R, ohm, > 0",
     "notes": "free text",
 }
 
@@ -73,6 +77,11 @@ class Actuators(Fields):
             if (doubtful := doubt(q, v, unit)) is not None:
                 self.warn(f"{f}.{key}", doubtful)
             values[key] = v
+        for key, other in (("torque_constant", "winding_resistance"),
+                           ("winding_resistance", "torque_constant")):
+            if key in values and other not in a:  # the copper losses need both
+                self.err(f"{f}.{key}", f"only with {other} (the winding's losses R (tau_m / "
+                                       "k_t)^2 need both)")
         if "coulomb_smoothing" in values and "coulomb_friction" not in a:
             self.err(f"{f}.coulomb_smoothing", "only with coulomb_friction (it smooths it)")
         inertia = scale.get("inertia")
@@ -91,4 +100,6 @@ class Actuators(Fields):
             torque_limit=values.get("torque_limit"),
             motor_torque_limit=values.get("motor_torque_limit"),
             motor_speed_limit_rad_s=None if rpm is None else rpm * 2.0 * math.pi / 60.0,
+            torque_constant=values.get("torque_constant"),
+            winding_resistance=values.get("winding_resistance"),
             given=frozenset(a) - {"notes"})

@@ -135,6 +135,10 @@ QUANTITIES: dict[str, Quantity] = {
                                 readings=(("in rad/s", lambda v: v * 60.0 / (2.0 * math.pi)),
                                           ("in thousands of rpm", lambda v: v * 1e3),
                                           ("in rev/s", lambda v: v * 60.0))),
+    "torque_constant": Quantity("motor torque constant", "N*m/A", plausible=(1e-4, 10.0),
+                                readings=(("in mN*m/A", lambda v: v * 1e-3),)),
+    "winding_resistance": Quantity("motor winding resistance", "ohm", plausible=(1e-3, 1e3),
+                                   readings=(("in milliohm", lambda v: v * 1e-3),)),
 }
 
 #: a parameter's name prefix -> its quantity (revolute joint, prismatic joint)
@@ -160,6 +164,8 @@ ACTUATOR_QUANTITY = {
     "torque_limit": ("torque_limit", "force_limit"),
     "motor_torque_limit": ("motor_torque_limit", "motor_torque_limit"),
     "motor_speed_limit_rpm": ("motor_speed_rpm", "motor_speed_rpm"),
+    "torque_constant": ("torque_constant", "torque_constant"),
+    "winding_resistance": ("winding_resistance", "winding_resistance"),
 }
 
 #: a parameter's SI unit as its manifest writes it at a prismatic joint

@@ -139,6 +139,8 @@ class Actuator:
     torque_limit: float | None = None  # N*m (N) at the joint
     motor_torque_limit: float | None = None  # N*m
     motor_speed_limit_rad_s: float | None = None
+    torque_constant: float | None = None  # N*m/A
+    winding_resistance: float | None = None  # ohm
     given: frozenset = frozenset()  # the keys the description gave
 
 
