@@ -51,7 +51,9 @@ mutate: $(STAMP)  ## mutation testing: make mutate TARGET=planar_sym/dynamics ->
 	@test -n "$(TARGET)" || { $(PY) -m mutation --list; echo "usage: make mutate TARGET=..."; exit 2; }
 	$(PY) -m mutation $(TARGET)
 
-docs: $(STAMP)  ## the API reference, rendered from the docstrings, into site/ (mkdocs --strict)
+# tests/test_docs_examples.py runs every example of the pages; docs/hooks.py fills in the generated
+# parts (BENCHMARKS.md's tables, every command's --help, the file formats' fields)
+docs: $(STAMP)  ## the documentation site (tutorials, how-to, reference, API, background) into site/ (mkdocs --strict; open site/index.html)
 	$(PY) -m mkdocs build --strict --site-dir site
 
 lint: $(STAMP)  ## ruff on the sources (generated/ excluded)

@@ -253,8 +253,8 @@ def test_closed_chain_project(method):
     five = ps.load("five_bar_type1")  # A, B, E, D; actuated A and E
     q0 = five.q_drawn.copy()
     q0[1] += 0.01
-    with pytest.raises(InputError, match=r"q0.*pass project_state=True to solve the passive "
-                                         r"joints from the actuated ones"):
+    with pytest.raises(InputError, match=r"q0.*pass project=True \(planar_sym.simulate\) to solve "
+                                         r"the passive joints from the actuated ones"):
         ps.simulate(five, q0, np.zeros(4), (0.0, 0.02), method=method)
     run = ps.simulate(five, q0, np.zeros(4), (0.0, 0.02), t_eval=[0.0, 0.02], method=method,
                       project=True)

@@ -417,7 +417,7 @@ def test_a_closed_chain_under_rk45(five):
     print(f"\nfive-bar RK45: |q, qd - dopri5| {err:.2g}")
     assert err < AGREE
     assert np.max(np.abs(five.constraint(run.q))) < 1e-9
-    with pytest.raises(InputError, match="project_state=True"):  # not projected: refused
+    with pytest.raises(InputError, match="project=True"):  # not projected: refused
         ps.simulate(*args, method="RK45", t_eval=FIVE_T)
 
 

@@ -53,7 +53,8 @@ def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: 
             raise InputError(str(exc).replace("sample 0", label, 1).replace(
                 "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)",
                 "give a state on the loops (motion.closure.solve_passive), or pass "
-                "project_state=True to solve the passive joints from the actuated ones")) from None
+                "project=True (planar_sym.simulate) to solve the passive joints from the actuated "
+                "ones")) from None
     return q0.copy(), qd0.copy()
 
 

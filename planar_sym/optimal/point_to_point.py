@@ -314,9 +314,10 @@ def initial_guess(a0, a1, intervals: int, duration_s: float):
 
 
 def copper_losses(robot: Robot) -> np.ndarray:
-    """Per actuated joint, R / (N k_t)^2 (W per (N*m)^2; per N^2 at a slider): the winding's
-    losses per squared joint torque, i = tau / (N k_t), from the description's drive train.
-    Raises InputError where a motor has no torque_constant and winding_resistance."""
+    """Shape (actuated,): per actuated joint, R / (N k_t)^2 (W per (N*m)^2; per N^2 at a
+    slider): the winding's losses per squared joint torque, i = tau / (N k_t), from the
+    description's drive train. Raises InputError where a motor has no torque_constant and
+    winding_resistance."""
     out, missing = [], []
     for act, drive in zip(robot.actuators, robot.drive_train.drives):
         kt, r = act.get("torque_constant"), act.get("winding_resistance")
