@@ -61,3 +61,4 @@ lint: $(STAMP)  ## ruff on the sources (generated/ excluded)
 
 clean:  ## remove build outputs (not the committed generated/)
 	rm -rf build dist *.egg-info results .pytest_cache site .mutation
+	$(MAKE) -s -C examples/c clean

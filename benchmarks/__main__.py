@@ -17,7 +17,7 @@ from .machine import describe, load_now
 from .report import markdown, print_section
 
 SECTIONS = ("inverse", "ik", "forward", "build", "actuators", "growth", "imports", "control",
-            "design", "identify", "optimal")
+            "design", "identify", "optimal", "opty_peer")
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / "BENCHMARKS.md"
 
 

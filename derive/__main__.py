@@ -67,9 +67,10 @@ def write_atomically(files: dict[str, bytes], target: Path) -> None:
                 shutil.rmtree(tmp)
 
 
-def derive_robot(robot: str | Path, equations: str = "auto") -> tuple[str, dict[str, bytes]]:
+def derive_robot(robot: str | Path, equations: str = "auto", stage=None
+                 ) -> tuple[str, dict[str, bytes]]:
     desc = load(robot)
-    return desc.name, codegen.render(desc, equations)
+    return desc.name, codegen.render(desc, equations, stage)
 
 
 def is_stale(robot: str | Path, out: Path) -> bool:
@@ -107,7 +108,8 @@ def main(argv: list[str] | None = None) -> int:
         for r in robots:
             progress.step(f"deriving {r}")
             t0 = time.perf_counter()
-            rendered.append(derive_robot(r, args.equations))
+            rendered.append(derive_robot(r, args.equations,
+                                         lambda what: progress.note(f"{what} ...")))
             if not args.quiet:
                 print(f"derived {rendered[-1][0]} in {time.perf_counter() - t0:.2f} s",
                       file=sys.stderr)

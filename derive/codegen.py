@@ -127,30 +127,38 @@ LOOPED = ("mass_matrix", "bias", "gravity", "inverse_dynamics", "energy", "forwa
 EQUATIONS = ("auto", "closed", "structure")
 
 
-def render(desc: Description, equations: str = "auto") -> dict[str, bytes]:
+def render(desc: Description, equations: str = "auto", stage=None) -> dict[str, bytes]:
     """All generated files of one robot, as bytes (nothing written yet).
 
     The code comes from algorithmic differentiation of the recursive kinematics, or per
     function from the expanded closed forms where those have fewer operations; the closed
     forms are derived (and printed) only where they fit (``size.py``) or are asked for.
+    ``stage(what)``, if given, hears each stage as it starts (a big robot takes minutes).
     """
+    stage = stage or (lambda what: None)
     name = desc.name
     digest = input_hash(desc)
+    stage("the dynamics by algorithmic differentiation")
     ad = ad_dynamics.quantities(desc)
     closed = equations == "closed" or (equations == "auto" and sizes.measure(desc).closed_forms_fit)
     if closed:
         from . import closed_route, model, printing
 
+        stage("the closed forms (SymPy: Lagrangian, simplification)")
         sym_model = model.build(desc)
         gens = choose(functions(closed_route.quantities(sym_model, ad.sym)), functions(ad))
+        stage("the equation report")
         eq = printing.render(sym_model)
     else:
         from . import report_structure
 
         gens = functions(ad)
+        stage("the equation report (structure)")
         eq = report_structure.render(desc, {g.quantity: (g.operations, g.route) for g in gens})
+    stage("the regressor (identification)")
     reg = regressor.derive(desc)
     gens += _regressors(reg)
+    stage("the C code")
     cg = ca.CodeGenerator(name, {"with_header": False, "casadi_real": "double",
                                  "casadi_int": "long long int"})
     for g in gens:

@@ -1169,7 +1169,7 @@ def off_loops_qdd(ctx):
 @bad(LOOPS, "`simulate` a closed chain from a `q0` off the loops (no longer projected silently)",
      InputError, r"five_bar_type1: q0 is off the loop constraints: \|Phi\| = .*project=True",
      "five_bar_type1: q0 is off the loop constraints: |Phi| = 0.00101 m at cut joint C (limit "
-     "1e-09); give a state on the loops (motion.closure.solve_passive), or pass "
+     "1e-09); give a state on the loops (planar_sym.from_actuated), or pass "
      "project=True (planar_sym.simulate) to solve the passive joints from the actuated ones",
      "tests/test_loop_inputs.py::test_simulate_does_not_move_a_state_off_the_loops")
 def off_loops_q0(ctx):
@@ -1182,7 +1182,7 @@ def off_loops_q0(ctx):
 @bad(LOOPS, "`simulate` a closed chain from rates that break the loop", InputError,
      r"five_bar_type1: qd0 is off the loop constraints: \|Phi_q qd\|",
      "five_bar_type1: qd0 is off the loop constraints: |Phi_q qd| = 0.14 m/s at cut joint C "
-     "(limit 2e-09); give a state on the loops (motion.closure.solve_passive), or pass "
+     "(limit 2e-09); give a state on the loops (planar_sym.from_actuated), or pass "
      "project=True (planar_sym.simulate) to solve the passive joints from the actuated ones")
 def off_loops_qd0(ctx):
     five = _five()

@@ -41,7 +41,7 @@ from planar_sym.errors import InputError, SimulationError
 from planar_sym.motion.closure import solve_passive
 
 CLOSED = ("five_bar_type1", "five_bar_type2", "parallel_3rrr", "slider_crank", "parallel_3rpr")
-HINT = ("give a state on the loops (motion.closure.solve_passive), or pass "
+HINT = ("give a state on the loops (planar_sym.from_actuated), or pass "
         "project=True (planar_sym.simulate) to solve the passive joints from the actuated "
         "ones")
 DRIFT_HINT = ("tighten rtol/atol or shorten segment_s; near a singular pose the constraints "

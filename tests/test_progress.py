@@ -81,7 +81,13 @@ def test_derive_shows_progress_per_robot(tmp_path, monkeypatch):
     assert main(["derive", str(toml), "--out", str(tmp_path / "cli")]) == 0
     err = tty.getvalue()
     assert f"[1/2] deriving heavy_motor_2dof ({toml}) ..." in err
-    assert "[2/2] compiling heavy_motor_2dof ..." in err
+    # each stage as it starts (a big robot's closed forms take minutes), then compiling
+    stages = [line.strip() for line in err.splitlines() if line.startswith("      the ")]
+    assert stages == ["the dynamics by algorithmic differentiation ...",
+                      "the closed forms (SymPy: Lagrangian, simplification) ...",
+                      "the equation report ...", "the regressor (identification) ...",
+                      "the C code ..."], err
+    assert err.index("the C code ...") < err.index("[2/2] compiling heavy_motor_2dof ...")
 
     from derive.__main__ import main as derive_main
 
@@ -134,3 +140,29 @@ def test_animation_and_sweep_count_their_units_on_a_terminal(tmp_path, monkeypat
     assert main(["--quiet", "animate", "serial_2dof_joint_move", "--frames", "6", "--out",
                  str(tmp_path / "b.gif")]) == 0
     assert tty.getvalue() == ""
+
+
+def test_an_atlas_counts_its_cells_and_its_numbers_do_not_change(tmp_path, monkeypatch):
+    """The atlas's progress: the flood fill's solved cells (never fewer than before), ending at
+    the grid's size, then the reachable cells measured, ending at their count; the atlas is the
+    same with and without it. On a terminal the command shows both stages."""
+    import numpy as np
+
+    import planar_sym as ps
+
+    heard = []
+    seen = ps.atlas("five_bar_type1", points=41, progress=lambda *a: heard.append(a))
+    plain = ps.atlas("five_bar_type1", points=41)
+    poses = [(d, t) for s, d, t in heard if s == "poses"]
+    measures = [(d, t) for s, d, t in heard if s == "measures"]
+    assert [d for d, _ in poses] == sorted(d for d, _ in poses) and poses[-1] == (41 * 41,) * 2
+    reachable = int(np.sum(plain.reachable))
+    assert measures[-1] == (reachable, reachable) and heard.index(("measures", *measures[0])) > \
+        heard.index(("poses", *poses[-1]))
+    assert np.array_equal(seen.q, plain.q, equal_nan=True)
+    assert np.array_equal(seen.envelope, plain.envelope, equal_nan=True)
+    tty = tty_stderr(monkeypatch)
+    assert main(["atlas", "five_bar_type1", "--points", "31", "--out", str(tmp_path)]) == 0
+    text = tty.getvalue()
+    assert "five_bar_type1: solving poses (grid cells): 961/961 in " in text
+    assert "five_bar_type1: measuring poses: " in text

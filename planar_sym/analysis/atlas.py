@@ -241,7 +241,7 @@ def type2_crossed(atlas: Atlas) -> bool:
 
 
 def atlas(robot, x_range=None, y_range=None, step=None, points=None, orientations=None,
-          q_start=None, accel_m_s2: float = 1.0, length_scale=None) -> Atlas:
+          q_start=None, accel_m_s2: float = 1.0, length_scale=None, progress=None) -> Atlas:
     """The atlas of a robot over a grid of task positions (and orientations).
 
     Parameters
@@ -262,6 +262,10 @@ def atlas(robot, x_range=None, y_range=None, step=None, points=None, orientation
         Size of the task acceleration of the envelope (m/s^2, in the x-y plane).
     length_scale : float, optional
         L_c (m) that makes the Jacobians dimensionless; default the reach radius.
+    progress : callable, optional
+        Called as ``progress(stage, done, total)`` as the work goes: stage "poses" (grid
+        cells tried by the flood fill) then "measures" (reachable cells measured); the
+        command line shows it (``progress.Meter``).
 
     Returns
     -------
@@ -293,8 +297,11 @@ def atlas(robot, x_range=None, y_range=None, step=None, points=None, orientation
     grid = make_grid(robot, x_range, y_range, step, points, orientations, length_scale, phi0)
     targets = grid.targets()
     cell, q_cell = _start_cell(robot, grid, targets, q0)
-    q = flood(robot, targets, grid.shape, cell, q_cell, grid.length_scale_m)
-    maps = _maps(robot, q, grid.length_scale_m, float(accel_m_s2), q_cell)
+    q = flood(robot, targets, grid.shape, cell, q_cell, grid.length_scale_m,
+              None if progress is None else lambda done, total: progress("poses", done, total))
+    maps = _maps(robot, q, grid.length_scale_m, float(accel_m_s2), q_cell,
+                 None if progress is None else lambda done, total: progress("measures", done,
+                                                                          total))
     shape = grid.shape
     return Atlas(
         robot.name, grid.x_m, grid.y_m, grid.phi_rad, q.reshape(*shape, robot.n),
@@ -311,7 +318,8 @@ def atlas(robot, x_range=None, y_range=None, step=None, points=None, orientation
 ROUNDING = 1e-12
 
 
-def _maps(robot: Robot, q: np.ndarray, L: float, accel: float, q_ref: np.ndarray) -> dict:
+def _maps(robot: Robot, q: np.ndarray, L: float, accel: float, q_ref: np.ndarray,
+          progress=None) -> dict:
     """Every map at the solved cells (rows of q that are finite), in chunks; NaN elsewhere."""
     N, na = len(q), len(robot.actuated)
     reach = np.all(np.isfinite(q), axis=1)
@@ -325,6 +333,8 @@ def _maps(robot: Robot, q: np.ndarray, L: float, accel: float, q_ref: np.ndarray
         found = {**pose_measures(robot, q[rows], L), **rest_torques(robot, q[rows], accel)}
         for k, values in out.items():
             values[rows] = found[k]
+        if progress is not None:
+            progress(min(lo + CHUNK, len(idx)), len(idx))
     # a joint whose gravity torque is rounding next to its own envelope (a wrist with its
     # centre of gravity on its axis: +-6e-16 N*m against 0.06) holds none: 0, not noise drawn
     # as a full colour map and printed as a peak

@@ -104,13 +104,15 @@ def _neighbours(shape: tuple[int, int, int]):
 
 
 def flood(robot: Robot, targets: np.ndarray, shape, start: int, q_start: np.ndarray,
-          length_scale: float) -> np.ndarray:
+          length_scale: float, progress=None) -> np.ndarray:
     """Poses of every cell reachable from cell ``start`` (solved at ``q_start``), NaN elsewhere.
 
     Wave by wave, each unsolved neighbour of a solved cell gets one batched Newton from that
     neighbour's pose (then in SUBSTEPS steps if it failed); a cell that fails is tried again
     from each other solved neighbour in later waves. A cell is accepted when Newton converges,
     det K keeps the start's sign and no coordinate moves more than DQ_LIMIT per step.
+    ``progress(done, total)``, if given, hears after each wave how many of the grid's cells
+    are solved, and (total, total) when the fill ends (the rest are out of reach).
     """
     sign0 = float(np.sign(np.linalg.det(stacked(robot, q_start[None])[0][0])))
     newton = _Newton(robot, length_scale, sign0)
@@ -130,6 +132,8 @@ def flood(robot: Robot, targets: np.ndarray, shape, start: int, q_start: np.ndar
         has = usable.any(axis=1)
         cand, nbs, usable = cand[has], nbs[has], usable[has]
         if not len(cand):
+            if progress is not None:
+                progress(N, N)
             return q
         d = np.argmax(usable, axis=1)
         src = nbs[np.arange(len(cand)), d]
@@ -143,6 +147,8 @@ def flood(robot: Robot, targets: np.ndarray, shape, start: int, q_start: np.ndar
         q[cand[ok]] = q_new[ok]
         solved[cand[ok]] = True
         new, pending = cand[ok], cand[~ok]
+        if progress is not None:
+            progress(int(solved.sum()), N)
 
 
 def _resolve(robot) -> Robot:

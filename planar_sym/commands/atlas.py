@@ -118,11 +118,28 @@ def _atlas(args, robot, q_start):
     import numpy as np
 
     from ..analysis.atlas import atlas
+    from ..progress import Meter
 
-    return atlas(robot, _mm(args.x, "--x"), _mm(args.y, "--y"),
-                 None if args.step is None else args.step / 1e3, args.points,
-                 None if args.phi is None else np.radians(args.phi), q_start, args.accel,
-                 None if args.length_scale is None else args.length_scale / 1e3)
+    current: list = [None, None]  # the stage and its Meter
+
+    def progress(stage: str, done: int, total: int) -> None:
+        """One line per stage on a terminal: the poses, then the measures."""
+        if current[0] != stage:
+            if current[1] is not None:
+                current[1].close()
+            what = {"poses": "solving poses (grid cells)", "measures": "measuring poses"}[stage]
+            current[:] = [stage, Meter(total, f"{robot.name}: {what}", quiet=args.quiet)]
+        current[1](done, total)
+
+    try:
+        return atlas(robot, _mm(args.x, "--x"), _mm(args.y, "--y"),
+                     None if args.step is None else args.step / 1e3, args.points,
+                     None if args.phi is None else np.radians(args.phi), q_start, args.accel,
+                     None if args.length_scale is None else args.length_scale / 1e3,
+                     progress=progress)
+    finally:
+        if current[1] is not None:
+            current[1].close()
 
 
 def _several(args) -> int:

@@ -68,7 +68,8 @@ def run(args) -> int:
     rendered = []
     for desc in descs:
         progress.step(f"deriving {desc.name} ({desc.path})")
-        name, files = derive_main.derive_robot(desc.path, args.equations)
+        name, files = derive_main.derive_robot(desc.path, args.equations,
+                                               lambda what: progress.note(f"{what} ..."))
         if desc.path.resolve().parent != robots_dir():  # a built-in comes out as `make derive`
             files = {**files, DESCRIPTION_COPY: desc.path.read_bytes()}
         rendered.append((name, files))

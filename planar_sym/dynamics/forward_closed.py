@@ -52,7 +52,7 @@ def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: 
         except InputError as exc:
             raise InputError(str(exc).replace("sample 0", label, 1).replace(
                 "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)",
-                "give a state on the loops (motion.closure.solve_passive), or pass "
+                "give a state on the loops (planar_sym.from_actuated), or pass "
                 "project=True (planar_sym.simulate) to solve the passive joints from the actuated "
                 "ones")) from None
     return q0.copy(), qd0.copy()

@@ -97,9 +97,15 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     try:
         return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals))
     except SimulationError as first:
-        if objective != "time":
-            raise
         failed = first
+    if objective != "time":  # the same move without the limits first, then with them from it
+        if lim is None and v is None:
+            raise failed
+        try:
+            free = _solve(robot, a0, a1, objective, duration_s, None, None, int(intervals))
+            return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals), free)
+        except SimulationError:
+            raise failed from None
     # the fastest move from a cubic guess can fail where the limits ask for a swing (a weak
     # motor and gravity): first any move within them, the least effort over a duration that
     # doubles until one is found, then the fastest from it (no slower than that one)
@@ -208,7 +214,7 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
                duration_s)
     else:
         _warm(opti, warm, own, pas, closed, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T)
-    opti.solver("ipopt", {"print_time": False},
+    opti.solver("ipopt", {"print_time": False, "expand": True},
                 {"print_level": 0, "sb": "yes", "tol": 1e-10, "max_iter": 3000})
     start = time.perf_counter()
     try:

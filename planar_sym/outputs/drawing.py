@@ -167,12 +167,14 @@ class Scene:
         ax.set_ylabel("y (mm)")
         ax.grid(True, alpha=0.3)
         self.moving: list[tuple[object, np.ndarray]] = []  # artist, positions (N, k, 2) mm
+        self._pending = {}
         self._ground()
         self._base_frame()
         self._bodies()
         self._sliders(geo)
         self._joints()
         self._cgs_and_task()
+        self._labels()
         if labels:
             self._legend()
         self.show(0)
@@ -284,11 +286,27 @@ class Scene:
                 self._label(f"{text} (task)" if key == task else text, key)
 
     def _label(self, text: str, key: tuple[str, str]) -> None:
-        ann = self.ax.annotate(text, xy=self.pts[key][0], xytext=(6, 6), fontsize=8, zorder=9,
-                               textcoords="offset points",
-                               bbox={"boxstyle": "round,pad=0.15", "fc": "white",
-                                     "alpha": 0.7, "lw": 0})
-        self._move(ann, self.pts[key])
+        """A name for the point ``key``, drawn by ``_labels``."""
+        self._pending.setdefault(key, []).append(text)
+
+    def _labels(self) -> None:
+        """One label per place: the names of points that coincide in every configuration (a
+        cart-pole's slide and hinge, two hips on one pelvis point) joined, not overprinted."""
+        places: list[tuple[tuple[str, str], list[str]]] = []
+        tol = 1e-9 * max(self.span, 1e-12)
+        for key, texts in self._pending.items():
+            for at, names in places:
+                if np.abs(self.pts[at] - self.pts[key]).max() <= tol:
+                    names.extend(t for t in texts if t not in names)
+                    break
+            else:
+                places.append((key, list(texts)))
+        for key, names in places:
+            ann = self.ax.annotate(", ".join(names), xy=self.pts[key][0], xytext=(6, 6),
+                                   fontsize=8, zorder=9, textcoords="offset points",
+                                   bbox={"boxstyle": "round,pad=0.15", "fc": "white",
+                                         "alpha": 0.7, "lw": 0})
+            self._move(ann, self.pts[key])
 
     def _legend(self) -> None:
         from matplotlib.lines import Line2D
