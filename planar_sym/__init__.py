@@ -38,6 +38,7 @@ __all__ = [
     "controller",
     "cubic",
     "equations",
+    "explore",
     "export",
     "from_actuated",
     "inverse_along",
@@ -78,7 +79,8 @@ _LAZY = {"simulate": ("dynamics.forward", "simulate"),
          "inverse_along": ("dynamics.along", "inverse_along"),
          "track": ("control.track", "track"), "Tracking": ("control.track", "Tracking"),
          "sweep": ("analysis.sweep", "sweep"), "atlas": ("analysis.atlas", "atlas"),
-         "show": ("outputs.notebook", "show"), "export": ("outputs.export", "write")}
+         "show": ("outputs.notebook", "show"), "explore": ("outputs.explore", "explore"),
+         "export": ("outputs.export", "write")}
 
 
 def __getattr__(name: str):
