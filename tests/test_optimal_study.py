@@ -167,3 +167,27 @@ def test_the_command_line_runs_it(tmp_path):
     header = (tmp_path / "cart_pole_swing_up.csv").read_text().splitlines()[0].split(",")
     assert header[:3] == ["t_s", "q1_m", "q2_rad"] and "e2_rad" in header
     assert (tmp_path / "cart_pole_swing_up.gif").is_file()
+
+
+@pytest.mark.parametrize("table, message", [
+    ("end = [1.0]\nduration = 1.0", "optimal.start: missing"),
+    ("start = [0.0]\nduration = 1.0", "optimal.end: missing"),
+    ("start = [0.0]\nend = [1.0]\nduration = 1.0\nintervals = 1",
+     "optimal.intervals: must be an integer from 2 to 10000 (got 1)"),
+    ("start = [0.0]\nend = [1.0]\nduration = 1.0\ntorque_limit = [0.0]",
+     "optimal.torque_limit: must be positive (got [0.0])"),
+    ("start = [0.0]\nend = [1.0]\nduration = 1.0\nspeed_limit = [-2.0]",
+     "optimal.speed_limit: must be positive (got [-2.0])"),
+    ("start = [0.0]\nend = [1.0]\nduration = -1.0", "optimal.duration: must be > 0"),
+    ("start = [0.0]\nend = [1.0]\nduration = 2e6", "optimal.duration: must be at most 1e+06"),
+    ("start = [0.0]\nend = [1.0]\nobjective = \"energy\"", "optimal.duration: missing"),
+    ("start = [0.0]\nend = [1.0]\nduration = 1.0\nspeed = 2.0", "optimal.speed: unknown key"),
+    ("start = \"0\"\nend = [1.0]\nduration = 1.0", "optimal.start: must be a list of numbers"),
+])
+def test_each_field_of_the_optimal_table_is_named(table, message):
+    import tomllib
+
+    with pytest.raises(StudyError) as err:
+        parse(tomllib.loads("robot = \"cart_pole\"\nkind = \"optimal\"\n[optimal]\n" + table),
+              "bad")
+    assert len(err.value.problems) == 1 and message in err.value.problems[0], err.value.problems

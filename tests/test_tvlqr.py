@@ -186,3 +186,12 @@ def test_weights_and_samples_are_checked(cart_pole, swing):
     # a weight of 0 on a rate is allowed (semi-definite), and changes the gains
     loose = ps.tvlqr(cart_pole, jt, move.tau, q_weight=[100.0, 100.0, 0.0, 1.0], r_weight=R_W)
     assert np.abs(loose.gain - swing[1].gain).max() > 1e-3
+
+
+def test_two_samples_are_a_motion(cart_pole):
+    """The shortest motion, two samples held at the top: the LQR gain at both."""
+    hold = ps.lqr(cart_pole, [0.0, UP], q_weight=Q_W, r_weight=R_W)
+    z = np.zeros((2, 2))
+    jt = JointTrajectory(np.array([0.0, 0.5]), np.tile([0.0, UP], (2, 1)), z, z)
+    d = ps.tvlqr(cart_pole, jt, np.zeros((2, 1)), q_weight=Q_W, r_weight=R_W)
+    assert np.abs(d.gain - hold.gain).max() <= 1e-6 * np.abs(hold.gain).max()
