@@ -188,6 +188,15 @@ FIELDS = [
      r"speed limit; a slip\? In rad/s it would be 57\.2958 rpm or in thousands of rpm it would "
      r"be 6000 rpm or in rev/s it would be 360 rpm"),
      "motor_speed_limit_rpm = 0", r"motor_speed_limit_rpm: must be > 0 rpm"),
+    # the electrical figures go together (one without the other is refused)
+    ("torque_constant = 0.05", "torque_constant = 50.0\nwinding_resistance = 1.2",
+     (r"torque_constant: 50 N\*m/A \(read in N\*m/A\) is above the plausible 10 N\*m/A for a "
+      r"motor torque constant; a slip\? In mN\*m/A it would be 0\.05 N\*m/A"),
+     "torque_constant = 0\nwinding_resistance = 1.2", r"torque_constant: must be > 0 N\*m/A"),
+    ("winding_resistance = 1.2", "winding_resistance = 1200.0\ntorque_constant = 0.05",
+     (r"winding_resistance: 1200 ohm \(read in ohm\) is above the plausible 1000 ohm for a motor "
+      r"winding resistance; a slip\? In milliohm it would be 1\.2 ohm"),
+     "winding_resistance = -1\ntorque_constant = 0.05", r"winding_resistance: must be > 0 ohm"),
 ]
 
 
@@ -231,7 +240,7 @@ def test_every_quantity_is_tried():
     tried = {"mass", "inertia", "length", "gravity", "gear_ratio", "rotor_inertia", "viscous",
              "coulomb", "smoothing", "torque_limit", "motor_torque_limit", "motor_speed_rpm",
              "gear_ratio_slider", "viscous_slider", "coulomb_slider", "smoothing_slider",
-             "force_limit"}
+             "force_limit", "torque_constant", "winding_resistance"}
     assert set(QUANTITIES) == tried
 
 
