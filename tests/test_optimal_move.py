@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import ROOT
 from scipy.optimize import minimize
 
 import planar_sym as ps
-from conftest import ROOT
 from planar_sym.errors import InputError
 from planar_sym.optimal.point_to_point import initial_guess
 

@@ -10,6 +10,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import ROOT
 
 import planar_sym as ps
 from planar_sym.study.checks import StudyError
@@ -191,3 +192,23 @@ def test_each_field_of_the_optimal_table_is_named(table, message):
         parse(tomllib.loads("robot = \"cart_pole\"\nkind = \"optimal\"\n[optimal]\n" + table),
               "bad")
     assert len(err.value.problems) == 1 and message in err.value.problems[0], err.value.problems
+
+
+def test_a_run_shorter_than_its_move_and_weights_of_the_wrong_width_are_named(tmp_path):
+    """A student's slips in an optimal study tracked by LQR: a run that would stop in the
+    middle of the move (silently unfinished before), a q_weight of three values for a
+    pendulum's two states; each named by its field."""
+    study = (ROOT / "planar_sym" / "studies" / "cart_pole_swing_up.toml").read_text()
+    short = tmp_path / "short.toml"
+    short.write_text(study.replace("duration = 5.0", "duration = 1.5"))
+    with pytest.raises(ps.InputError, match="short.toml: control.duration 1.5 s ends before "
+                                            "the move it tracks \\(2 s\\)"):
+        ps.run_study(short)
+    wide = tmp_path / "wide.toml"
+    wide.write_text(study.replace("q_weight = [100.0, 100.0, 1.0, 1.0]", "q_weight = [1.0, 2.0]"))
+    with pytest.raises(ps.InputError, match="wide.toml: control.q_weight: cart_pole needs 4 "
+                                            "values, one per state"):
+        ps.run_study(wide)
+    one = tmp_path / "one.toml"  # one number: every state alike
+    one.write_text(study.replace("q_weight = [100.0, 100.0, 1.0, 1.0]", "q_weight = 100.0"))
+    assert abs(ps.run_study(one).get("q", index=1).values[-1] - np.pi / 2) < 1e-4

@@ -94,25 +94,19 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
                                                          (q_end, "q_end")))
     v = (description_speed_limits(robot) if speed_limit is None
          else speed_limits(robot, speed_limit))
+    if objective != "time":
+        return _within_limits(robot, a0, a1, objective, duration_s, lim, v, int(intervals))
     try:
         return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals))
     except SimulationError as first:
         failed = first
-    if objective != "time":  # the same move without the limits first, then with them from it
-        if lim is None and v is None:
-            raise failed
-        try:
-            free = _solve(robot, a0, a1, objective, duration_s, None, None, int(intervals))
-            return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals), free)
-        except SimulationError:
-            raise failed from None
     # the fastest move from a cubic guess can fail where the limits ask for a swing (a weak
     # motor and gravity): first any move within them, the least effort over a duration that
     # doubles until one is found, then the fastest from it (no slower than that one)
     duration = 1.0
     for _ in range(WARM_TRIES):
         try:
-            warm = _within_limits(robot, a0, a1, duration, lim, v, int(intervals))
+            warm = _within_limits(robot, a0, a1, "effort", duration, lim, v, int(intervals))
         except SimulationError:
             duration *= 2.0
             continue
@@ -123,14 +117,21 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     raise failed
 
 
-def _within_limits(robot: Robot, a0, a1, duration: float, lim, v, N: int) -> OptimalMove:
-    """The least-effort move of ``duration`` (s) within the limits: from a cubic, or where that
-    fails, from the least-effort move without limits (always one). Raises SimulationError."""
+def _within_limits(robot: Robot, a0, a1, objective: str, duration: float, lim, v, N: int
+                   ) -> OptimalMove:
+    """The best move of ``duration`` (s) by ``objective`` ("effort" or "energy") within the
+    limits: from a cubic, or where that fails, from the same move without limits. Raises the
+    first SimulationError when neither is found."""
     try:
-        return _solve(robot, a0, a1, "effort", duration, lim, v, N)
-    except SimulationError:
-        free = _solve(robot, a0, a1, "effort", duration, None, None, N)
-        return _solve(robot, a0, a1, "effort", duration, lim, v, N, free)
+        return _solve(robot, a0, a1, objective, duration, lim, v, N)
+    except SimulationError as first:
+        if lim is None and v is None:
+            raise
+        try:
+            free = _solve(robot, a0, a1, objective, duration, None, None, N)
+            return _solve(robot, a0, a1, objective, duration, lim, v, N, free)
+        except SimulationError:
+            raise first from None
 
 
 def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,

@@ -44,6 +44,10 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
 
         move, found = plan(st, robot)
         jt, tau = move.trajectory, move.tau
+        if cs.duration_s is not None and cs.duration_s < move.duration_s * (1 - 1e-9):
+            raise InputError(f"{where}: control.duration {cs.duration_s:g} s ends before the "
+                             f"move it tracks ({move.duration_s:.4g} s): lengthen it, or leave "
+                             "it out (the move's own duration)")
     else:
         jt, _ = joint_motion(st, robot)
     # a torque input must cover the run: to the motion's end if no duration is given
@@ -55,11 +59,25 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
         duration_s=cs.duration_s, start_error=start_error, torque=torque, joint_limits=limits,
         on_joint_limit=st.events.on_joint_limit, on_actuator_limit=st.events.on_actuator_limit,
         plant=plant, method=cs.method, rtol=cs.rtol, atol=cs.atol, where=where,
-        q_weight=cs.q_weight, r_weight=cs.r_weight, tau=tau))
+        q_weight=_weights(st, robot, "q_weight"), r_weight=_weights(st, robot, "r_weight"),
+        tau=tau))
     result = _result(st, robot, done)
     if found:  # what the move is: the plan the law tracks
         result = replace(result, note=f"{found}; {result.note}", timing=found)
     return result
+
+
+def _weights(st: specs.Study, robot: Robot, key: str):
+    """``control.q_weight`` or ``r_weight`` of law "lqr": one number (every state or torque)
+    or one per state (2 per coordinate the law holds) or per motor, checked by name."""
+    v = getattr(st.control, key)
+    if v is None or len(v) == 1:
+        return None if v is None else v[0]
+    held = len(robot.actuated) if robot.is_closed_chain else robot.n
+    width, what = ((2 * held, "state (q then qd of each coordinate the law holds)")
+                   if key == "q_weight" else (len(robot.actuated), "actuated joint"))
+    check_width(st, f"control.{key}", v, width, what + " (or 1 for all)")
+    return v
 
 
 def _given_gains(st: specs.Study, robot: Robot):
