@@ -223,7 +223,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--list", action="store_true", help="list the targets and their test files")
     ap.add_argument("--report-only", action="store_true",
                     help="rewrite the targets' sections from their last run with today's "
-                         "equivalence judgments (mutation/equivalent.toml), running nothing")
+                         "equivalence judgments (mutation/equivalent.toml and mutation/equivalent/*.toml), running nothing")
     args = ap.parse_args(argv)
     if args.list or not args.targets:
         for target, tests in sorted(_targets().items()):

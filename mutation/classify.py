@@ -67,8 +67,10 @@ def parse_show(name: str, status: str, shown: str) -> Mutant:
 
 def load_equivalents() -> dict[tuple, str]:
     """Judged survivors: ``[[equivalent]]`` tables with module, function, before, after and
-    reason (the lines as ``mutmut show`` prints them, stripped)."""
-    if not EQUIVALENTS.is_file():
-        return {}
-    table = tomllib.loads(EQUIVALENTS.read_text()).get("equivalent", [])
+    reason (the lines as ``mutmut show`` prints them, stripped), from ``equivalent.toml`` and
+    the files of ``equivalent/`` (one per area, so sessions judging different modules do not
+    edit one file)."""
+    files = [EQUIVALENTS] + sorted(EQUIVALENTS.with_suffix("").glob("*.toml"))
+    table = [e for f in files if f.is_file()
+             for e in tomllib.loads(f.read_text()).get("equivalent", [])]
     return {(e["module"], e["function"], e["before"], e["after"]): e["reason"] for e in table}

@@ -18,7 +18,7 @@ small planted bug (an operator, a number, a dropped call, a changed string) in a
 package, tested by the target's test files (`mutation/targets.toml`). A mutant is *killed* when a
 test fails (or times out), *survived* when every covering test passes, *no tests* when no listed
 test reaches the function. The score is killed / all. Each survivor is listed with its change and
-either the reason it is equivalent (`mutation/equivalent.toml`, judged by a developer) or
+either the reason it is equivalent (`mutation/equivalent.toml` or a file of `mutation/equivalent/`, judged by a developer) or
 "unexplained" (a test to write). Survivors that change only a message's wording are marked
 "text"; they are counted like the others.
 
