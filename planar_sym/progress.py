@@ -24,6 +24,7 @@ from __future__ import annotations
 import sys
 import time
 from collections.abc import Iterable, Iterator
+from contextvars import ContextVar
 from typing import TextIO, TypeVar
 
 T = TypeVar("T")
@@ -111,3 +112,66 @@ class Meter:
         if self.enabled and self.total > 0:
             print(f"\r{self.what}: {self.done}/{self.total} in "
                   f"{time.perf_counter() - self.start:.1f} s", file=self.stream, flush=True)
+
+
+#: a simulation shows its clock only once it has run this long (s): short runs print nothing
+DELAY_S = 1.0
+
+
+class Clock:
+    """Progress of a simulation in simulated time, one line rewritten in place on a terminal:
+    ``S1: simulating, t = 2.4 of 10 s (24 %)``. Call it with the time reached and the end time
+    (it is the ``progress`` callback ``simulate`` and ``simulate_controlled`` take), then
+    ``close``. Nothing is printed before ``DELAY_S`` of wall time, so quick runs stay silent."""
+
+    def __init__(self, what: str, *, quiet: bool = False, stream: TextIO | None = None):
+        self.stream = sys.stderr if stream is None else stream
+        self.enabled = wanted(self.stream, quiet)
+        self.what = what
+        self.start = time.perf_counter()
+        self._shown = None  # wall time of the last line, None before the first
+
+    def __call__(self, t_s: float, t_end_s: float) -> None:
+        now = time.perf_counter() - self.start
+        if not self.enabled or now < DELAY_S or (self._shown is not None
+                                                 and now - self._shown < INTERVAL_S):
+            return
+        self._shown = now
+        share = 100 * t_s / t_end_s if t_end_s > 0 else 100
+        print(f"\r{self.what}, t = {t_s:.4g} of {t_end_s:.4g} s ({share:.0f} %)", end="",
+              file=self.stream, flush=True)
+
+    def close(self) -> None:
+        """End the line (if one was shown) with the wall time taken."""
+        if self._shown is not None:
+            print(f"\r{self.what}: done in {time.perf_counter() - self.start:.1f} s"
+                  + " " * 20, file=self.stream, flush=True)
+            self._shown = None
+
+
+#: the clock of the run under way (see ``watching``); a context variable, so threads and
+#: tasks each see their own
+_AMBIENT: ContextVar = ContextVar("planar_sym_clock", default=None)
+
+
+class watching:
+    """``with watching(clock):`` every simulation run inside reports to ``clock`` unless given
+    its own ``progress``: the command line sets it once around a study instead of passing a
+    callback down through every layer of the study runner."""
+
+    def __init__(self, clock):
+        self.clock = clock
+
+    def __enter__(self):
+        self._token = _AMBIENT.set(self.clock)
+        return self.clock
+
+    def __exit__(self, *exc):
+        _AMBIENT.reset(self._token)
+        if hasattr(self.clock, "close"):
+            self.clock.close()
+
+
+def ambient():
+    """The innermost ``watching`` clock, or None."""
+    return _AMBIENT.get()

@@ -166,3 +166,95 @@ def test_an_atlas_counts_its_cells_and_its_numbers_do_not_change(tmp_path, monke
     text = tty.getvalue()
     assert "five_bar_type1: solving poses (grid cells): 961/961 in " in text
     assert "five_bar_type1: measuring poses: " in text
+
+
+def _heard_run(progress=None, **kw):
+    """A free swing of the 3-DOF arm long enough (about 0.3-0.5 s) for several clock reads."""
+    import numpy as np
+
+    import planar_sym as ps
+
+    r = ps.load("serial_3dof")
+    return ps.simulate(r, [0.1, 0.2, 0.3], [0, 0, 0], (0.0, 40.0), t_eval=np.linspace(0, 40, 401),
+                       rtol=1e-12, atol=1e-13, progress=progress, **kw)
+
+
+def test_a_long_simulation_reports_its_clock_and_its_numbers_do_not_change():
+    """simulate(progress=...) hears the time the C loop has reached, increasing, ending at the
+    end time; the run is bit for bit the one without a clock (the loop never reads it)."""
+    import numpy as np
+
+    heard = []
+    seen = _heard_run(lambda t, end: heard.append((t, end)))
+    plain = _heard_run()
+    assert np.array_equal(seen.q, plain.q) and np.array_equal(seen.qd, plain.qd)
+    times = [t for t, _ in heard]
+    assert {end for _, end in heard} == {40.0} and heard[-1] == (40.0, 40.0)
+    assert times == sorted(times)
+    # read while the loop runs (not only its start and end): the C loop writes the time reached
+    assert len(heard) >= 3 and any(0.0 < t < 40.0 for t in times), heard
+
+
+def test_a_controlled_run_reports_its_clock_through_the_engine():
+    import numpy as np
+
+    import planar_sym as ps
+    from planar_sym.control import controller
+
+    r = ps.load("serial_2dof")
+    heard = []
+    run = ps.simulate_controlled(r, controller("none"), (0.0, 2.0), q0=[0.3, 0.2],
+                                 qd0=[0.0, 0.0], t_eval=np.linspace(0, 2, 21),
+                                 progress=lambda t, end: heard.append((t, end)))
+    free = ps.simulate(r, [0.3, 0.2], [0.0, 0.0], (0.0, 2.0), t_eval=np.linspace(0, 2, 21),
+                       rtol=1e-10, atol=1e-12)
+    assert heard and heard[-1] == (2.0, 2.0)
+    assert np.max(np.abs(run.q - free.q)) < 1e-8  # the same free swing by the other route
+
+
+def test_the_clock_line_waits_a_second_then_rewrites_itself(monkeypatch):
+    """Clock: nothing in the first DELAY_S (quick runs stay silent), then one line rewritten
+    at most every INTERVAL_S, ended by close; nothing into a pipe or under --quiet."""
+    import itertools
+    from types import SimpleNamespace
+
+    import planar_sym.progress as progress_module
+    from planar_sym.progress import Clock, ambient, watching
+
+    clock = itertools.chain([0.0, 0.5, 1.2, 1.3, 1.8, 2.5], itertools.count(3.0))
+    monkeypatch.setattr(progress_module, "time", SimpleNamespace(perf_counter=lambda: next(clock)))
+    stream = FakeTTY()
+    c = Clock("S1: simulating", stream=stream)
+    with watching(c) as w:
+        assert ambient() is w is c
+        for t in (1.0, 3.0, 4.0, 7.5):  # at 0.5 s too early; 1.2 s shown; 1.3 s too soon
+            c(t, 10.0)
+    assert ambient() is None
+    assert stream.getvalue() == ("\rS1: simulating, t = 3 of 10 s (30 %)"
+                                 "\rS1: simulating, t = 7.5 of 10 s (75 %)"
+                                 "\rS1: simulating: done in 2.5 s" + " " * 20 + "\n")
+    quiet, pipe = FakeTTY(), io.StringIO()
+    for k in (Clock("x", quiet=True, stream=quiet), Clock("x", stream=pipe)):
+        k(1.0, 2.0)
+        k.close()
+    assert quiet.getvalue() == pipe.getvalue() == ""
+
+
+def test_run_shows_the_simulation_clock_on_a_terminal_only(tmp_path, monkeypatch):
+    """``planar-sym run`` of a forward study: the clock line on a terminal (its delay set to
+    0 here, as the free swing takes milliseconds), ended with the time taken; nothing with
+    --quiet or into a pipe, and the CSV is the same either way."""
+    import planar_sym.progress as progress_module
+
+    monkeypatch.setattr(progress_module, "DELAY_S", 0.0)
+    tty = tty_stderr(monkeypatch)
+    assert main(["run", "serial_2dof_free_swing", "--out", str(tmp_path / "a")]) == 0
+    text = tty.getvalue()
+    assert "\rserial_2dof_free_swing: simulating, t = 1 of 1 s (100 %)" in text, text
+    assert "serial_2dof_free_swing: simulating: done in " in text
+    tty.truncate(0)
+    tty.seek(0)
+    assert main(["--quiet", "run", "serial_2dof_free_swing", "--out", str(tmp_path / "b")]) == 0
+    assert tty.getvalue() == ""
+    name = "serial_2dof_free_swing.csv"
+    assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()

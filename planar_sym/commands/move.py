@@ -101,7 +101,7 @@ def study_table(args) -> dict:
 
 def run(args) -> int:
     from ..study import spec
-    from .run import check_out, report, write_study
+    from .run import check_out, report, simulation_clock, write_study
 
     check_out(args.out)
     name = args.name or f"{Path(args.robot).stem}_move"
@@ -117,5 +117,7 @@ def run(args) -> int:
                 saved["robot"], Path(args.save_study).resolve().parent)).as_posix()
         with atomic_files([args.save_study]) as (tmp,):
             tmp.write_text(dumps(saved))
-    report(write_study(st, args.out, quiet=args.quiet), name, args.quiet)
+    with simulation_clock(name, args.quiet):
+        done = write_study(st, args.out, quiet=args.quiet)
+    report(done, name, args.quiet)
     return 0

@@ -37,9 +37,23 @@ def run(args) -> int:
     check_out(args.out)
     studies = [load_study(r) for r in refs]  # every file checked before anything runs
     for st in studies:
-        report(write_study(st, args.out, args.samples, args.split, npz=args.npz,
-                           quiet=args.quiet), st.name, args.quiet)
+        with simulation_clock(st.name, args.quiet):
+            done = write_study(st, args.out, args.samples, args.split, npz=args.npz,
+                               quiet=args.quiet)
+        report(done, st.name, args.quiet)
     return 0
+
+
+def simulation_clock(name: str, quiet: bool):
+    """A clock line for the study's simulations on a terminal (``progress.Clock``: shown once
+    a run lasts over a second); a do-nothing context elsewhere, so pipes and logs get nothing
+    and the integrator runs without a watching thread."""
+    from contextlib import nullcontext
+
+    from ..progress import Clock, watching
+
+    clock = Clock(f"{name}: simulating", quiet=quiet)
+    return watching(clock) if clock.enabled else nullcontext()
 
 
 def check_samples(samples: int | None) -> None:

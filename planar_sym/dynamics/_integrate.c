@@ -447,6 +447,7 @@ int planar_sym_dopri5_ctl(int kind, int n, int m, int n_act, const int *act, con
             for (int k = 0; k < ctl->n_ev; ++k) if (!ctl->armed[k] && gv[k] > 0.0) ctl->armed[k] = 1;
         }
         t = tn;
+        *t_fail = t;  /* the time reached, read by a progress thread while the loop runs */
         memcpy(y, yn, sizeof(double) * d);
         memcpy(k1, k7, sizeof(double) * d);  /* FSAL */
         while (o < n_out && t_out[o] <= t) { memcpy(y_out + (long long)o * d, y, sizeof(double) * d); ++o; }

@@ -17,6 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import InputError, SimulationError
+from ..progress import ambient, watching
 from ..model.arrays import as_state, as_vector
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
@@ -26,6 +27,7 @@ from .integrate import check_torque
 from .laws import Controller
 from .run_result import Simulation, labels
 from .segments import friction, run_segments
+from .watched import call_watched
 
 #: the name a controlled run's type had: ``Simulation`` itself
 ControlledRun = Simulation
@@ -190,7 +192,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
                         t_eval=None, joint_limits: dict | None = None,
                         on_joint_limit: str = "stop", on_actuator_limit: str = "continue",
                         method: str = "dopri5", rtol: float = 1e-10, atol: float = 1e-12,
-                        max_steps: int = 10_000_000) -> Simulation:
+                        max_steps: int = 10_000_000, progress=None) -> Simulation:
     """Simulate ``plant`` (default: ``robot``) under ``controller`` over ``t_span`` (s).
 
     Parameters
@@ -217,6 +219,8 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     on_joint_limit, on_actuator_limit : "stop" or "continue"
         What an event does. Actuator limits are those of the description.
     method : "dopri5" (C, default), "cvodes" or "idas" (SUNDIALS through CasADi)
+    progress : callable, optional
+        ``progress(t_s, t_end_s)`` while the compiled loop runs (see ``simulate``).
 
     Returns
     -------
@@ -234,6 +238,13 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
                          f"{type(robot).__name__}")
     if not isinstance(controller, Controller):
         raise InputError("controller: make one with planar_sym.control.controller(kind, kp, kd)")
+    if progress is not None:  # read from there by the C loop's call
+        with watching(progress):
+            return simulate_controlled(
+                robot, controller, t_span, reference=reference, plant=plant, q0=q0, qd0=qd0,
+                torque=torque, t_eval=t_eval, joint_limits=joint_limits,
+                on_joint_limit=on_joint_limit, on_actuator_limit=on_actuator_limit,
+                method=method, rtol=rtol, atol=atol, max_steps=max_steps)
     plant = robot if plant is None else plant
     if not isinstance(plant, Robot) or plant.name != robot.name:
         raise InputError(f"the plant must be the same robot as the controller's model "
@@ -401,10 +412,11 @@ def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps):
 
     def segment(tt: np.ndarray, y: np.ndarray):
         out = np.empty((len(tt), 2 * n + 2))
-        rc = run(1 if m else 0, n, m, len(setup.act), setup.act.ctypes.data, 0,
-                 plant.p.ctypes.data, fn, ctypes.byref(setup.c), float(tt[0]),
-                 _array(y).ctypes.data, len(tt), tt.ctypes.data, rtol, atol, max_steps,
-                 out.ctypes.data, stats.ctypes.data, ctypes.byref(t_fail))
+        rc = call_watched(lambda: run(
+            1 if m else 0, n, m, len(setup.act), setup.act.ctypes.data, 0, plant.p.ctypes.data,
+            fn, ctypes.byref(setup.c), float(tt[0]), _array(y).ctypes.data, len(tt),
+            tt.ctypes.data, rtol, atol, max_steps, out.ctypes.data, stats.ctypes.data,
+            ctypes.byref(t_fail)), t_fail, float(t[-1]), ambient())
         count[0] += int(stats[0])
         if rc and not (m and rc in (1, 2)):
             raise SimulationError(f"{robot.name}: integration failed at t = "

@@ -26,6 +26,7 @@ from ..errors import InputError, SimulationError
 from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
+from ..progress import watching
 from ..motion.signals import Signal
 from .integrate import (
     SCIPY_METHODS,
@@ -43,7 +44,7 @@ from .integrate import (
 def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torque = None,
              t_eval=None, rtol: float = 1e-11, atol: float = 1e-12,
              method: str = "dopri5", max_steps: int = 10_000_000,
-             project: bool = False) -> Simulation:
+             project: bool = False, progress=None) -> Simulation:
     """Integrate a robot from (q0 rad, qd0 rad/s) over ``t_span`` (s) under ``torque`` (N*m).
 
     ``torque``: None (zero), a constant vector, or a function of time returning one: one torque
@@ -75,6 +76,10 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         Step limit of the C integrator.
     project : bool
         Closed chains: solve the passive joints of ``q0``, ``qd0`` from the actuated ones.
+    progress : callable, optional
+        Called as ``progress(t_s, t_end_s)`` about ten times a second while the compiled loop
+        (dopri5) runs, with the time reached (e.g. ``planar_sym.progress.Clock``); the
+        command line sets one for long runs on a terminal.
 
     Returns
     -------
@@ -90,6 +95,10 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     """
     if not isinstance(robot, Robot):
         raise InputError(f"simulate needs a Robot (planar_sym.load), got {type(robot).__name__}")
+    if progress is not None:  # every route below reads it from there, down to the C loop
+        with watching(progress):
+            return simulate(robot, q0, qd0, t_span, torque=torque, t_eval=t_eval, rtol=rtol,
+                            atol=atol, method=method, max_steps=max_steps, project=project)
     check_tolerances(rtol, atol)
     t = time_grid(t_span, t_eval)
     torque = check_torque(torque, len(robot.actuated))  # one rule for every route below

@@ -14,10 +14,12 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, SimulationError
+from ..progress import ambient
 from ..model.compile import load_helper
 from ..model.robot import Robot
 from ..motion.signals import Signal
 from .run_result import Simulation, labels
+from .watched import call_watched
 
 __all__ = ["SCIPY_METHODS", "Simulation", "Torque", "check_tolerances", "check_torque", "dopri5",
            "helper", "integrator", "labels", "time_grid", "torque_function"]
@@ -134,10 +136,11 @@ def dopri5(robot: Robot, kind: int, fn: int, y0: np.ndarray, t: np.ndarray, tau:
     out = np.empty((len(t), 2 * n))
     stats = np.zeros(3, dtype=np.int64)
     t_fail = ctypes.c_double()
-    rc = integrator()(kind, n, m, len(act_arr), act_arr.ctypes.data, tau.ctypes.data,
-                      robot.p.ctypes.data, fn, float(t[0]), y0.ctypes.data, len(t),
-                      t.ctypes.data, rtol, atol, max_steps, out.ctypes.data, stats.ctypes.data,
-                      ctypes.byref(t_fail))
+    rc = call_watched(lambda: integrator()(
+        kind, n, m, len(act_arr), act_arr.ctypes.data, tau.ctypes.data, robot.p.ctypes.data, fn,
+        float(t[0]), y0.ctypes.data, len(t), t.ctypes.data, rtol, atol, max_steps,
+        out.ctypes.data, stats.ctypes.data, ctypes.byref(t_fail)), t_fail, float(t[-1]),
+        ambient())
     if rc:
         raise SimulationError(f"{robot.name}: integration failed at t = {t_fail.value:.6g} s: "
                               f"{_DOPRI5_ERRORS.get(rc, rc)}")
