@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ALL_ROBOTS, BUILTIN_ROBOTS, CLOSED, ROBOTS_DIR, seed_studies
+from conftest import ALL_ROBOTS, BUILTIN_ROBOTS, CLOSED, ROBOTS_DIR, ROOT, seed_studies
 from PIL import Image
 
 import planar_sym as ps
@@ -41,9 +41,20 @@ def png_size(path: Path) -> tuple[int, int]:
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
 
 
+def toml_file(robot: str) -> Path:
+    """A built-in robot's description, or a description file named by its path."""
+    return Path(robot) if robot.endswith(".toml") else ROBOTS_DIR / f"{robot}.toml"
+
+
+def typed_unit(robot: str) -> tuple[str, float]:
+    """The description's length unit and how many of it make a metre: the drawing's unit."""
+    unit = tomllib.loads(toml_file(robot).read_text())["units"]["length"]
+    return unit, {"m": 1.0, "cm": 100.0, "mm": 1000.0}[unit]
+
+
 def toml_world(robot: str) -> tuple[dict, dict]:
     """Drawn-configuration world points and centres of gravity (m), straight from the TOML."""
-    raw = tomllib.loads((ROBOTS_DIR / f"{robot}.toml").read_text())
+    raw = tomllib.loads(toml_file(robot).read_text())
     unit = factor("length", raw["units"]["length"])
     points = {("ground", p): np.array(xy) * unit for p, xy in raw["ground"]["points"].items()}
     cgs = {}
@@ -75,8 +86,11 @@ def test_world_points_of_the_drawn_configuration_are_the_descriptions(robot):
 
 @pytest.mark.parametrize("robot", ALL_ROBOTS)
 def test_drawing_markers_sit_on_the_described_points(robot):
+    """Every marker where the description puts it, in the unit the description is typed in
+    (every built-in robot is typed in m)."""
     desc = load_description(robot)
     points, cgs = toml_world(robot)
+    unit, k = typed_unit(robot)
     fig = drawing_figure(robot)
     arts = artists(fig)
     ax = fig.axes[0]
@@ -86,8 +100,9 @@ def test_drawing_markers_sit_on_the_described_points(robot):
             continue
         marker = arts[f"joint:{j.name}"]
         xy_mm = np.column_stack(marker.get_data())[0]
-        assert np.max(np.abs(xy_mm - points[(j.parent, j.parent_point)] * 1e3)) < 1e-9
-        assert np.max(np.abs(xy_mm - points[(j.child, j.child_point)] * 1e3)) < 1e-2  # closes
+        assert np.max(np.abs(xy_mm - points[(j.parent, j.parent_point)] * k)) < 1e-9 * k / 1e3
+        # a loop closes (to 1e-2 mm)
+        assert np.max(np.abs(xy_mm - points[(j.child, j.child_point)] * k)) < 1e-2 * k / 1e3
         role = "cut" if j.closes_loop else "actuated" if j.actuated else "passive"
         if role == "cut":
             assert marker.get_markeredgecolor() == "red"
@@ -95,20 +110,52 @@ def test_drawing_markers_sit_on_the_described_points(robot):
             assert marker.get_markerfacecolor() == colours[role]
     for body, xy in cgs.items():
         got = np.column_stack(arts[f"cg:{body}"].get_data())[0]
-        assert np.max(np.abs(got - xy * 1e3)) < 1e-9
-    task = np.column_stack(arts["task"].get_data())[0]
-    assert np.max(np.abs(task - points[desc.task_point] * 1e3)) < 1e-9
+        assert np.max(np.abs(got - xy * k)) < 1e-9 * k / 1e3
+    if desc.task_point is not None:
+        task = np.column_stack(arts["task"].get_data())[0]
+        assert np.max(np.abs(task - points[desc.task_point] * k)) < 1e-9 * k / 1e3
     texts = {t.get_text() for t in ax.texts}
     assert {j.name for j in desc.tree_joints if j.type == "revolute"} <= texts
-    assert robot in ax.get_title()
-    assert ax.get_xlabel() == "x (mm)" and ax.get_ylabel() == "y (mm)"
+    assert desc.name in ax.get_title()
+    assert ax.get_xlabel() == f"x ({unit})" and ax.get_ylabel() == f"y ({unit})"
     assert ax.get_aspect() == 1.0
+
+
+@pytest.mark.parametrize(("example", "unit"), [("jansen_linkage", "cm"), ("four_bar", "mm"),
+                                               ("serial_2dof_geared", "m")])
+def test_a_robot_is_drawn_in_the_unit_it_is_typed_in(example, unit):
+    """The Jansen leg typed in cm is drawn in cm, the four-bar in mm, a geared arm in m: each
+    ground pivot's marker sits on the very numbers typed under [ground] points, the title
+    and the animation use the same unit, and ``Robot.length_unit`` says which."""
+    from planar_sym.outputs.animation import scene_figure
+
+    path = ROOT / "examples" / f"{example}.toml"
+    raw = tomllib.loads(path.read_text())
+    desc = load_description(path)
+    fig = drawing_figure(str(path))
+    ax, arts = fig.axes[0], artists(fig)
+    assert ax.get_xlabel() == f"x ({unit})" and ax.get_ylabel() == f"y ({unit})"
+    grounded = [j for j in (*desc.tree_joints, *desc.loop_joints)
+                if j.parent == "ground" and j.type == "revolute"]
+    # a pivot away from the origin, where a wrong scale shows (the geared arm has one pivot)
+    assert unit == "m" or any(np.any(raw["ground"]["points"][j.parent_point]) for j in grounded)
+    for j in grounded:
+        typed = np.array(raw["ground"]["points"][j.parent_point], dtype=float)
+        got = np.column_stack(arts[f"joint:{j.name}"].get_data())[0]
+        assert np.max(np.abs(got - typed)) < 1e-9 * max(1.0, np.max(np.abs(typed))), j.name
+    robot = load(str(path))
+    assert robot.length_unit == unit
+    q = np.tile(robot.q_drawn, (3, 1))
+    moving, _ = scene_figure(robot, desc, np.array([0.0, 0.1, 0.2]), q, "title")
+    assert moving.axes[0].get_xlabel() == f"x ({unit})"
+    if unit == "cm":  # a span of about 1 m: axis limits of about a hundred, not a thousand
+        assert 50 < np.ptp(ax.get_xlim()) < 300
 
 
 def test_link_with_three_points_is_drawn_through_them_in_order():
     points, _ = toml_world("five_bar_type1")
     line = artists(drawing_figure("five_bar_type1"))["body:L_Link2"]
-    want = np.array([points[("L_Link2", p)] for p in ("CS1", "CS2", "CS3")]) * 1e3  # B, C, P
+    want = np.array([points[("L_Link2", p)] for p in ("CS1", "CS2", "CS3")])  # B, C, P: in m
     assert np.max(np.abs(np.column_stack(line.get_data()) - want)) < 1e-9
 
 
@@ -367,3 +414,27 @@ def test_demo_failing_midway_leaves_no_partial_file(tmp_path, monkeypatch, capsy
     assert written == sorted([f"{first}.csv", f"{first}.png", f"{first}_split.png",
                               f"{first}.gif", f"{second}.csv", f"{second}.png",
                               f"{second}_split.png"])  # complete files only, no index
+
+
+def test_an_atlas_of_a_robot_typed_in_cm_is_mapped_in_cm(tmp_path):
+    """The seed's 2-DOF arm typed again in cm: the same atlas (SI arrays to 1e-9), its maps'
+    axes in cm with limits 100 times those of the arm typed in m, L_c in cm."""
+    from planar_sym.outputs.atlas_plots import atlas_figure
+
+    text = (ROBOTS_DIR / "serial_2dof.toml").read_text()
+    for a, b in (('length = "m"', 'length = "cm"'), ("[0.0373, 0.0]", "[3.73, 0.0]"),
+                 ("[0.04168, 0.0]", "[4.168, 0.0]"), ("[0.1, 0.0]", "[10.0, 0.0]"),
+                 ("[0.2, 0.0]", "[20.0, 0.0]")):
+        assert a in text
+        text = text.replace(a, b)
+    path = tmp_path / "serial_2dof.toml"
+    path.write_text(text)
+    in_cm, in_m = ps.atlas(str(path), points=11), ps.atlas("serial_2dof", points=11)
+    assert (in_cm.length_unit, in_m.length_unit) == ("cm", "m")
+    assert np.allclose(in_cm.x_m, in_m.x_m, rtol=0, atol=1e-12)
+    assert np.allclose(in_cm.gravity, in_m.gravity, rtol=1e-9, atol=1e-12, equal_nan=True)
+    ax_cm, ax_m = atlas_figure(in_cm).axes[0], atlas_figure(in_m).axes[0]
+    assert ax_cm.get_xlabel() == "x (cm)" and ax_m.get_xlabel() == "x (m)"
+    assert np.allclose(np.array(ax_cm.get_xlim()), 100 * np.array(ax_m.get_xlim()), rtol=1e-12)
+    title = atlas_figure(in_cm).get_suptitle()
+    assert f"(L_c = {in_cm.length_scale_m * 100:.4g} cm)" in title, title

@@ -479,13 +479,13 @@ def test_drawing_shows_each_slider(name, tmp_path):
 
     for joint in PRISMATIC[name]:
         j = next(j for j in desc.tree_joints if j.name == joint)
-        rail = np.column_stack(arts[f"rail:{joint}"].get_data())  # mm
-        a, b = world(j.parent, j.parent_point) * 1e3, world(j.child, j.child_point) * 1e3
+        rail = np.column_stack(arts[f"rail:{joint}"].get_data())  # m: the robot is typed in m
+        a, b = world(j.parent, j.parent_point), world(j.child, j.child_point)
         u = (rail[1] - rail[0]) / np.linalg.norm(rail[1] - rail[0])
         for p in (a, b):  # the rail passes through both points
-            assert abs((p - rail[0])[0] * u[1] - (p - rail[0])[1] * u[0]) < 1e-9
+            assert abs((p - rail[0])[0] * u[1] - (p - rail[0])[1] * u[0]) < 1e-12
         block = arts[f"joint:{joint}"].get_xy()[:4]
-        assert np.max(np.abs(block.mean(axis=0) - b)) < 1e-9  # the block sits on the slider
+        assert np.max(np.abs(block.mean(axis=0) - b)) < 1e-12  # the block sits on the slider
         assert (arts[f"joint:{joint}"].get_facecolor()[0] == 0.0) == j.actuated  # black: driven
     import matplotlib.pyplot as plt
 

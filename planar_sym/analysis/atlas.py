@@ -87,6 +87,8 @@ class Atlas:
         Loop equations of the robot (0 for a tree).
     start_drawing : dict
         The start pose as lines (m), as ``stick`` returns it, to draw over the maps.
+    length_unit : str
+        The unit the robot's description is typed in ("m", "cm", "mm"): the maps' axes.
     """
 
     robot: str
@@ -118,6 +120,7 @@ class Atlas:
     start_note: str = ""
     #: the start pose as lines (m): "bodies" (list of (k, 2)), "joints", "ground" (k, 2), "task"
     start_drawing: dict = field(default_factory=dict)
+    length_unit: str = "m"
 
     @property
     def cell_area_m2(self) -> float:
@@ -311,7 +314,7 @@ def atlas(robot, x_range=None, y_range=None, step=None, points=None, orientation
         coordinates=robot.coordinates, coordinate_units=robot.coordinate_units,
         actuated=robot.actuated, actuator_units=tuple(a["unit"] for a in robot.actuators),
         task_names=robot.task_names, n_constraints=robot.n_constraints, start_note=note,
-        start_drawing=stick(robot, q0))
+        start_drawing=stick(robot, q0), length_unit=robot.length_unit)
 
 
 #: a joint's gravity torque at most this fraction of its envelope everywhere is rounding

@@ -155,6 +155,14 @@ class Robot(LoopFunctions):
         (``Library.description_file``)."""
         return self.library.description_file
 
+    @cached_property
+    def length_unit(self) -> str:
+        """The length unit its description is typed in ("m", "cm" or "mm"): the unit of its
+        pictures (drawing, animation, atlas maps); "m" without a description at hand."""
+        from .length_unit import typed_length_unit
+
+        return typed_length_unit(self.description_file)
+
     @property
     def has_friction(self) -> bool:
         """Whether an actuator's friction dissipates energy (a free motion then loses it)."""

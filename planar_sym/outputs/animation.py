@@ -108,7 +108,7 @@ def scene_figure(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, 
                  figsize: tuple[float, float] = FIGSIZE, q_reference: np.ndarray | None = None):
     """(figure, update): the mechanism at ``q`` (and ``q_reference`` faint behind it), and
     ``update(k)`` that moves it to frame ``k`` and returns the artists it moved."""
-    from .drawing import MM, Scene, geometry
+    from .drawing import Scene, geometry
     from .plots import new_figure, tight
 
     geo = geometry(desc, robot.body_names, robot.frames(q))
@@ -125,7 +125,7 @@ def scene_figure(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, 
     scene = Scene(ax, desc, geo, labels=False)
     if ghost is not None:
         ax.legend(loc="upper right", fontsize=7)
-    tip = geo.points[desc.task_point] * MM if desc.task_point in geo.points else None
+    tip = geo.points[desc.task_point] * scene.scale if desc.task_point in geo.points else None
     if tip is not None:
         ax.plot(tip[:, 0], tip[:, 1], ":", color="crimson", lw=0.8, alpha=0.6)  # the whole path
     trace, = ax.plot([], [], "-", color="crimson", lw=1.6, zorder=8)

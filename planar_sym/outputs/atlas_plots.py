@@ -1,5 +1,5 @@
-"""Pictures of a robot's atlas (outputs stage): maps over the task plane in mm with the start
-pose drawn over them, and the atlas's files (PNG, NPZ, CSV), written whole or not at all.
+"""Pictures of a robot's atlas (outputs stage): maps over the task plane, in the length unit
+the robot's description is typed in, with the start pose drawn over them, and the atlas's files (PNG, NPZ, CSV), written whole or not at all.
 
 Per orientation: ``atlas_figure`` (reachable region with both singular loci, the Type I and
 Type II measures, dexterity) and ``torque_figure`` (per actuator, gravity torque and torque
@@ -13,9 +13,14 @@ from pathlib import Path
 import numpy as np
 
 from ..analysis.atlas import Atlas, EnvelopeAlong, write_csv, write_npz
+from ..model.length_unit import per_metre
 from .plots import new_figure, tight
 
-MM = 1e3
+
+def scale(atlas: Atlas) -> float:
+    """The maps' length unit (``Atlas.length_unit``) per metre."""
+    return per_metre(atlas.length_unit)
+
 #: colour scales end at this percentile of the reachable cells' values: near a singular pose
 #: torques grow without bound and would wash out the rest of the map
 PERCENTILE = 95.0
@@ -29,8 +34,9 @@ SAME, OTHER = "#9ecae1", "#fdbf6f"
 def _extent(atlas: Atlas) -> list[float]:
     dx = (atlas.x_m[1] - atlas.x_m[0]) / 2
     dy = (atlas.y_m[1] - atlas.y_m[0]) / 2
-    return [(atlas.x_m[0] - dx) * MM, (atlas.x_m[-1] + dx) * MM,
-            (atlas.y_m[0] - dy) * MM, (atlas.y_m[-1] + dy) * MM]
+    s = scale(atlas)
+    return [(atlas.x_m[0] - dx) * s, (atlas.x_m[-1] + dx) * s,
+            (atlas.y_m[0] - dy) * s, (atlas.y_m[-1] + dy) * s]
 
 
 def _layer_title(atlas: Atlas, layer: int) -> str:
@@ -42,7 +48,7 @@ def _layer_title(atlas: Atlas, layer: int) -> str:
 def _loci(ax, atlas: Atlas, layer: int) -> None:
     """Type I: the edge of the reachable region (a leg stretched or folded); Type II: the zero
     contour of det_type2 between reachable cells."""
-    X, Y = np.meshgrid(atlas.x_m * MM, atlas.y_m * MM)
+    X, Y = np.meshgrid(atlas.x_m * scale(atlas), atlas.y_m * scale(atlas))
     reach = atlas.reachable[layer]
     if reach.any() and not reach.all():
         ax.contour(X, Y, reach.astype(float), levels=[0.5], **TYPE1_STYLE)
@@ -52,31 +58,32 @@ def _loci(ax, atlas: Atlas, layer: int) -> None:
 
 
 def _stick(ax, atlas: Atlas) -> None:
-    """The start pose, light grey, in mm."""
-    d = atlas.start_drawing
+    """The start pose, light grey."""
+    d, k = atlas.start_drawing, scale(atlas)
     for line in d.get("bodies", []):
-        ax.plot(line[:, 0] * MM, line[:, 1] * MM, "-", **STICK)
+        ax.plot(line[:, 0] * k, line[:, 1] * k, "-", **STICK)
     if len(d.get("joints", [])):
-        ax.plot(d["joints"][:, 0] * MM, d["joints"][:, 1] * MM, "o", ms=4, mfc="white",
+        ax.plot(d["joints"][:, 0] * k, d["joints"][:, 1] * k, "o", ms=4, mfc="white",
                 mec="0.3", zorder=7)
     if len(d.get("ground", [])):
-        ax.plot(d["ground"][:, 0] * MM, d["ground"][:, 1] * MM, "^", ms=8, color="0.3",
+        ax.plot(d["ground"][:, 0] * k, d["ground"][:, 1] * k, "^", ms=8, color="0.3",
                 zorder=7)
     if "task" in d:
-        ax.plot(d["task"][0] * MM, d["task"][1] * MM, "*", ms=11, color="crimson", mec="black",
+        ax.plot(d["task"][0] * k, d["task"][1] * k, "*", ms=11, color="crimson", mec="black",
                 zorder=8)
 
 
 def _frame(ax, atlas: Atlas, title: str, along: EnvelopeAlong | None) -> None:
     _stick(ax, atlas)
     if along is not None:
-        ax.plot(along.x[:, 0] * MM, along.x[:, 1] * MM, "-", color="black", lw=2.0, zorder=9)
+        s = scale(atlas)
+        ax.plot(along.x[:, 0] * s, along.x[:, 1] * s, "-", color="black", lw=2.0, zorder=9)
     ext = _extent(atlas)
     ax.set_xlim(ext[:2])
     ax.set_ylim(ext[2:])
     ax.set_aspect("equal")
-    ax.set_xlabel("x (mm)")
-    ax.set_ylabel("y (mm)")
+    ax.set_xlabel(f"x ({atlas.length_unit})")
+    ax.set_ylabel(f"y ({atlas.length_unit})")
     ax.set_title(title, fontsize=9)
 
 
@@ -145,9 +152,9 @@ def atlas_figure(atlas: Atlas, layer: int = 0, along: EnvelopeAlong | None = Non
         _map(fig, ax, atlas, values, layer, what, "viridis", (0.0, top if top > 0 else 1.0))
         note = " (a tree: none, 1 everywhere)" if tree and key == "type2" else ""
         _frame(ax, atlas, what.split(" (")[0] + note, along)
+    lc = f"L_c = {atlas.length_scale_m * scale(atlas):.4g} {atlas.length_unit}"
     fig.suptitle(f"{atlas.robot}: atlas of the start pose's working mode"
-                 f"{_layer_title(atlas, layer)} (L_c = {atlas.length_scale_m * MM:.4g} mm)",
-                 fontsize=11)
+                 f"{_layer_title(atlas, layer)} ({lc})", fontsize=11)
     tight(fig)
     return fig
 

@@ -2,7 +2,8 @@
 
 World positions come from the compiled body frames (``Robot.frames``) and the description's
 body-frame points, so a picture shows the model the equations use, not a second copy of the
-geometry. Everything is plotted in mm (the seed's unit) with equal axes. Artists carry a ``gid``
+geometry. Everything is plotted in the length unit the description is typed in
+(``[units].length``: a robot typed in cm is drawn in cm) with equal axes. Artists carry a ``gid``
 (``joint:<name>``, ``cg:<body>``, ``body:<body>``, ``task``) so tests can read them back.
 """
 
@@ -13,8 +14,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.description import GROUND, Description
+from ..model.length_unit import per_metre, typed_length_unit
 
-MM = 1e3  # m -> mm: pictures use the seed's unit
+#: decimals of a length in each unit: 10 um in all
+DIGITS = {"mm": 2, "cm": 3, "m": 5}
+
 
 
 @dataclass(frozen=True)
@@ -148,13 +152,18 @@ class Scene:
         Positions (m) over every configuration to be shown; the limits cover them all.
     labels : bool
         Name joints and points, and add a legend (the still drawing); off for animations.
+
+    ``unit`` is the drawing's length unit (the description's ``[units].length``) and ``scale``
+    the number of them in a metre: positions held here are in it.
     """
 
     def __init__(self, ax, desc: Description, geo: Geometry, labels: bool = True):
         self.ax, self.desc, self.labels = ax, desc, labels
-        self.pts = {k: v * MM for k, v in geo.points.items()}
-        self.cgs = {k: v * MM for k, v in geo.cgs.items()}
-        low, high = (c * MM for c in geo.extent())
+        self.unit = typed_length_unit(desc.path)
+        self.scale = scale = per_metre(self.unit)
+        self.pts = {k: v * scale for k, v in geo.points.items()}
+        self.cgs = {k: v * scale for k, v in geo.cgs.items()}
+        low, high = (c * scale for c in geo.extent())
         self.span = float(max(high - low))
         high = np.maximum(high, 0.15 * self.span)  # room for the base frame's arrows
         # each side at least 60 % of the other: a straight arm is not drawn in a sliver
@@ -163,10 +172,10 @@ class Scene:
         ax.set_xlim(mid[0] - half[0], mid[0] + half[0])
         ax.set_ylim(mid[1] - half[1], mid[1] + half[1])
         ax.set_aspect("equal")
-        ax.set_xlabel("x (mm)")
-        ax.set_ylabel("y (mm)")
+        ax.set_xlabel(f"x ({self.unit})")
+        ax.set_ylabel(f"y ({self.unit})")
         ax.grid(True, alpha=0.3)
-        self.moving: list[tuple[object, np.ndarray]] = []  # artist, positions (N, k, 2) mm
+        self.moving: list[tuple[object, np.ndarray]] = []  # artist, positions (N, k, 2), drawing unit
         self._pending = {}
         self._ground()
         self._base_frame()
@@ -183,7 +192,7 @@ class Scene:
     def _ground(self) -> None:
         from matplotlib.patches import Polygon
 
-        s = 0.035 * self.span  # ground symbol size, mm: scales with the robot
+        s = 0.035 * self.span  # ground symbol size: scales with the robot
         for j in self.desc.tree_joints:
             if j.parent == GROUND:
                 x, y = self.pts[(GROUND, j.parent_point)][0]
@@ -192,7 +201,7 @@ class Scene:
                                           hatch="///", lw=1.0, zorder=1))
 
     def _base_frame(self) -> None:
-        length = 0.15 * self.span  # mm; the limits leave room for it
+        length = 0.15 * self.span  # the limits leave room for it
         for tip, name, colour in (((length, 0), "x", "tab:red"), ((0, length), "y", "tab:green")):
             self.ax.annotate("", xy=tip, xytext=(0, 0), zorder=4, arrowprops={
                 "arrowstyle": "-|>", "color": colour, "lw": 1.6, "shrinkA": 0, "shrinkB": 0})
@@ -236,7 +245,7 @@ class Scene:
             n = np.column_stack([-u[:, 1], u[:, 0]])
             a, b = self.pts[(j.parent, j.parent_point)], self.pts[(j.child, j.child_point)]
             travel = np.sum((b - a) * u, axis=1)
-            block = 0.07 * self.span  # mm
+            block = 0.07 * self.span
             lo = min(0.0, float(travel.min())) - block
             hi = max(0.0, float(travel.max())) + block
             rail, = self.ax.plot([], [], "-", lw=2.5, color="dimgray", zorder=2,
@@ -330,7 +339,7 @@ class Scene:
 
     # -- motion -----------------------------------------------------------------------------
     def _move(self, art, *tracks: np.ndarray) -> None:
-        """Register ``art`` to follow ``tracks`` (each (N, 2) mm: one per vertex or marker)."""
+        """Register ``art`` to follow ``tracks`` (each (N, 2) in the drawing unit: one per vertex or marker)."""
         self.moving.append((art, np.stack(tracks, axis=1)))
 
     def show(self, k: int) -> list:
@@ -399,10 +408,11 @@ def drawing_figure(robot_name: str, q=None):
     geo = geometry(desc, names, frames)
     fig = new_figure((8.0, 6.0))
     ax = fig.add_subplot()
-    Scene(ax, desc, geo, labels=True)
+    scene = Scene(ax, desc, geo, labels=True)
     units = desc.coordinate_units
-    angles = ", ".join(f"{c} {v * 1e3:.2f} mm" if u == "m" else f"{c} {np.degrees(v):.2f} deg"
-                       for c, v, u in zip(coordinates, q, units))
+    digits = DIGITS[scene.unit]  # a slider's position to 10 um, in the drawing's unit
+    angles = ", ".join(f"{c} {v * scene.scale:.{digits}f} {scene.unit}" if u == "m"
+                       else f"{c} {np.degrees(v):.2f} deg" for c, v, u in zip(coordinates, q, units))
     ax.set_title(f"{desc.name}: {which}\n{desc.title}\nq: {angles}", fontsize=8)
     tight(fig)
     return fig
