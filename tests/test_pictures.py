@@ -438,3 +438,18 @@ def test_an_atlas_of_a_robot_typed_in_cm_is_mapped_in_cm(tmp_path):
     assert np.allclose(np.array(ax_cm.get_xlim()), 100 * np.array(ax_m.get_xlim()), rtol=1e-12)
     title = atlas_figure(in_cm).get_suptitle()
     assert f"(L_c = {in_cm.length_scale_m * 100:.4g} cm)" in title, title
+
+
+@pytest.mark.parametrize("robot", [*ALL_ROBOTS, str(ROOT / "examples" / "jansen_linkage.toml"),
+                                   str(ROOT / "examples" / "cart_pole.toml")],
+                         ids=lambda r: Path(r).stem)
+def test_joint_labels_do_not_cover_each_other(robot):
+    """Measured as drawn: no two labels' boxes overlap (the Jansen leg's crank and its j/k
+    joint sit 15 cm apart on one row, closer than the crank's name is long)."""
+    fig = drawing_figure(robot)
+    fig.draw_without_rendering()
+    labels = [t for t in fig.axes[0].texts if t.get_text() and t.get_text() not in ("x0", "y0")]
+    boxes = [t.get_window_extent() for t in labels]
+    for i, a in enumerate(boxes):
+        for j in range(i):
+            assert not a.overlaps(boxes[j]), (labels[i].get_text(), labels[j].get_text())

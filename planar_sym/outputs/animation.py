@@ -134,6 +134,7 @@ def scene_figure(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, 
     decimals = max(2, math.ceil(-math.log10(t[1] - t[0])))
     ax.set_title("\n".join(textwrap.wrap(title, 75)), fontsize=7)
     tight(fig)
+    scene.declutter()  # the first frame's labels apart; later ones move with their joints
 
     def update(k: int) -> list:
         if tip is not None:

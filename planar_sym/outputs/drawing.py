@@ -9,6 +9,7 @@ geometry. Everything is plotted in the length unit the description is typed in
 
 from __future__ import annotations
 
+import textwrap
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,6 +17,9 @@ import numpy as np
 from ..model.description import GROUND, Description
 from ..model.length_unit import per_metre, typed_length_unit
 
+#: where a joint's label goes, in order of preference: offset (points) and alignment
+LABEL_CORNERS = ((6, 6, "left", "bottom"), (6, -6, "left", "top"), (-6, 6, "right", "bottom"),
+                 (-6, -6, "right", "top"))
 #: decimals of a length in each unit: 10 um in all
 DIGITS = {"mm": 2, "cm": 3, "m": 5}
 
@@ -310,12 +314,33 @@ class Scene:
                     break
             else:
                 places.append((key, list(texts)))
+        self.label_artists = []
         for key, names in places:
             ann = self.ax.annotate(", ".join(names), xy=self.pts[key][0], xytext=(6, 6),
                                    fontsize=8, zorder=9, textcoords="offset points",
                                    bbox={"boxstyle": "round,pad=0.15", "fc": "white",
                                          "alpha": 0.7, "lw": 0})
+            self.label_artists.append(ann)
             self._move(ann, self.pts[key])
+
+    def declutter(self) -> None:
+        """Move each label that would cover one placed before it to another corner of its
+        joint (up-right, down-right, up-left, down-left; the first free): two joints close
+        together on one row would print their names over each other. Call it once the figure
+        is laid out (the boxes are measured as drawn)."""
+        self.ax.apply_aspect()  # the equal-aspect box as it will be drawn
+        placed = []
+        for ann in self.label_artists:
+            for dx, dy, ha, va in LABEL_CORNERS:
+                ann.xyann, _ = (dx, dy), ann.set(ha=ha, va=va)
+                box = ann.get_window_extent()
+                if not any(box.overlaps(b) for b in placed):
+                    break
+            else:  # no corner free: the first, as before
+                dx, dy, ha, va = LABEL_CORNERS[0]
+                ann.xyann, _ = (dx, dy), ann.set(ha=ha, va=va)
+                box = ann.get_window_extent()
+            placed.append(box)
 
     def _legend(self) -> None:
         from matplotlib.lines import Line2D
@@ -339,7 +364,8 @@ class Scene:
 
     # -- motion -----------------------------------------------------------------------------
     def _move(self, art, *tracks: np.ndarray) -> None:
-        """Register ``art`` to follow ``tracks`` (each (N, 2) in the drawing unit: one per vertex or marker)."""
+        """Register ``art`` to follow ``tracks`` (each (N, 2) in the drawing unit: one per
+        vertex or marker)."""
         self.moving.append((art, np.stack(tracks, axis=1)))
 
     def show(self, k: int) -> list:
@@ -413,6 +439,9 @@ def drawing_figure(robot_name: str, q=None):
     digits = DIGITS[scene.unit]  # a slider's position to 10 um, in the drawing's unit
     angles = ", ".join(f"{c} {v * scene.scale:.{digits}f} {scene.unit}" if u == "m"
                        else f"{c} {np.degrees(v):.2f} deg" for c, v, u in zip(coordinates, q, units))
-    ax.set_title(f"{desc.name}: {which}\n{desc.title}\nq: {angles}", fontsize=8)
+    # a long list of joints wraps instead of running off the figure's edges
+    q_text = textwrap.fill(f"q: {angles}", 120)
+    ax.set_title(f"{desc.name}: {which}\n{desc.title}\n{q_text}", fontsize=8)
     tight(fig)
+    scene.declutter()
     return fig
