@@ -33,6 +33,9 @@ GIL), or on any ``concurrent.futures``-style executor: a ``ProcessPoolExecutor``
 (``Robot.__reduce__``) and each worker process compiles it once into its own cache. A design
 that fails (a target out of reach, a singular pose) is reported with its own message; a batch
 whose worker fails is reported with the worker's error, and every finished design is kept.
+
+Here the designs are split into batches and gathered into the table; the routes and a batch's
+run are ``sweep_routes``, the table's type ``sweep_result``.
 """
 
 from __future__ import annotations
@@ -41,79 +44,24 @@ import math
 import os
 import warnings
 from concurrent.futures import Executor, ThreadPoolExecutor
-from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, PlanarSymError
+from ..errors import InputError
 from ..model.robot import Robot
 from ..study import spec as specs
 from .designs import DesignSpace
 from .figures import named, parameter_figure
-from .sweep_figures import atlas_figures, run_figures, singular_designs, torque_figures
-from .sweep_motor import has_drives, motor_figures
-from .sweep_plant import ON, on_note, parameter_index, plant_designs, plant_overrides
+from .sweep_plant import ON, on_note, parameter_index, plant_designs
+from .sweep_result import SweepResult
+from .sweep_routes import _Job, _Out, _route, _run_job, kinematic_parameters
+
+# the result type and the routes are named here too, where they used to live
+__all__ = ["FAST_BATCH", "ON", "SweepResult", "kinematic_parameters", "sweep"]
 
 #: designs per batch where the motion is shared (one C loop each): large enough that the
 #: Python around a batch is a few per cent, small enough to spread over cores
 FAST_BATCH = 4096
-
-
-@dataclass
-class SweepResult:
-    """The sweep's table: ``columns`` (name -> (D,) array, units in the names), the varied
-    parameters first (``varied``, the columns of the parameters named in ``parameters``),
-    then the figures; ``failed`` maps a design's index to why it has no figures (NaN in its
-    row); ``route`` says how the designs were evaluated.
-
-    Values are SI, the unit in each column's name (``m_link2_kg``, ``a2_m``, ``peak_tau1_n_m`` in
-    N*m, ``max_abs_e1_rad`` in rad, ``final_work_j`` in J); ``D`` is the
-    number of designs. ``study`` names the study swept; ``note`` sums the run up (designs,
-    sampling, route, what was varied on which parameter set, failures). For a control study the
-    varied columns are the controller's model's values (``m_link2_kg``) then the plant's
-    (``plant_m_link2_kg``), and ``on`` says which of the two the designs changed ("both",
-    "model" or "plant"; "both" for any other study, which has one robot). ``info`` types every
-    column (``figures.Figure``: its unit, and the statistic and quantity it is of).
-    """
-
-    study: str
-    columns: dict[str, np.ndarray]
-    varied: tuple[str, ...]
-    parameters: tuple[str, ...] = ()
-    failed: dict[int, str] = field(default_factory=dict)
-    route: str = ""
-    note: str = ""
-    on: str = "both"
-    info: dict = field(default_factory=dict)
-
-    def __len__(self) -> int:
-        return len(next(iter(self.columns.values())))
-
-    @property
-    def figures(self) -> tuple[str, ...]:
-        """The names of the figure columns (every column but the varied parameters')."""
-        return tuple(k for k in self.columns if k not in self.varied)
-
-    def csv_text(self) -> str:
-        """The table as CSV; a failed design's figures are empty and ``error`` says why."""
-        names = list(self.columns) + (["error"] if self.failed else [])
-        lines = [",".join(names)]
-        for k in range(len(self)):
-            row = ["" if not np.isfinite(v[k]) else f"{v[k]:.12g}" for v in self.columns.values()]
-            if self.failed:
-                row.append('"' + self.failed.get(k, "").replace('"', "'") + '"')
-            lines.append(",".join(row))
-        return "\n".join(lines) + "\n"
-
-    def write_csv(self, path: str | os.PathLike) -> Path:
-        """Write ``csv_text()`` to ``path``, whole or not at all; returns the path."""
-        from ..files import atomic_files
-
-        path = Path(path)
-        with atomic_files([path]) as (tmp,):
-            tmp.write_text(self.csv_text())
-        return path
 
 
 def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, seed: int = 0,
@@ -195,67 +143,6 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
     return _table(st, robot, space, plant_P, on, route, jobs, outs)
 
 
-# -- the two parameter sets of a control study -------------------------------------------------
-# -- routes ------------------------------------------------------------------------------------
-def kinematic_parameters(robot: Robot, space: str) -> set[str]:
-    """Parameters that move the joints of a motion in ``space`` ("task" or "joint"): those the
-    task point's coordinates depend on (task space), and the loop equations' (closed chains).
-    Found by evaluating the compiled functions with each parameter changed, at random poses."""
-    names = [par.name for par in robot.parameter_list]
-    q = np.random.default_rng(1).uniform(-np.pi, np.pi, (4, robot.n))
-    args = {"q": q, "qd": np.zeros_like(q)}
-    quantities = ([("task", "x")] if space == "task" and robot.task_names else []) + (
-        [("constraint", "phi")] if robot.is_closed_chain else [])
-    moved = np.zeros(len(names), dtype=bool)
-    for quantity, output in quantities:
-        fn = robot.library.functions[quantity]
-        ins = {name: args[name] for name, _ in fn.spec.inputs if name != "p"}
-        base = fn(len(q), {**ins, "p": robot.p})[output]
-        for k in range(len(names)):
-            p = robot.p.copy()
-            p[k] = p[k] * 1.5 + 0.1
-            moved[k] |= bool(np.any(fn(len(q), {**ins, "p": p})[output] != base))
-    return {n for n, m in zip(names, moved) if m}
-
-
-def _route(st: specs.Study, robot: Robot, space: DesignSpace, atlas) -> tuple[str, tuple]:
-    """How the designs are evaluated, and the motion they share (if they do)."""
-    if atlas is not None:
-        return "atlas", ()
-    if st.kind != "inverse" or st.optimise is not None:
-        # an [optimise] study's timing depends on each design's dynamics: its own run each
-        return "per design", ()
-    if not hasattr(robot.tree_inverse_dynamics, "designs"):  # exact path, or no C extension
-        return "per design", ()
-    moving = kinematic_parameters(robot, st.motion.space) & set(space.names)
-    if moving:
-        return "motion per design", ()
-    from ..study.motion import joint_motion
-
-    if not robot.is_closed_chain:
-        robot._refuse_passive_joints()
-    jt, _ = joint_motion(st, robot)
-    return "shared motion", (jt.q, jt.qd, jt.qdd, jt.t_s)
-
-
-@dataclass
-class _Job:
-    robot: Robot
-    study: specs.Study
-    P: np.ndarray
-    start: int
-    route: str
-    shared: tuple
-    atlas: dict | None
-    plant: np.ndarray | None = None  # a control study's plant parameter vectors (D, n_p)
-
-
-@dataclass
-class _Out:
-    figures: dict  # Figure -> (designs,) values
-    failed: dict[int, str]
-
-
 def _gather(pool, jobs: list[_Job], progress=None) -> list[_Out | BaseException]:
     """Each batch's figures, or the exception its worker raised (the others are kept);
     ``progress(designs done, designs)`` after each batch."""
@@ -279,88 +166,6 @@ def _gather(pool, jobs: list[_Job], progress=None) -> list[_Out | BaseException]
         if progress is not None:
             progress(done, total)
     return outs
-
-
-def _run_job(job: _Job) -> _Out:
-    if job.route == "shared motion":
-        return _shared(job)
-    robot = job.robot
-    if job.route == "motion per design":
-        return _motion_per_design(job, robot)
-    return _per_design(job, robot)
-
-
-def _design(robot: Robot, p: np.ndarray) -> Robot:
-    """The robot with one design's parameter vector (SI): its columns passed the same rules at
-    once (``model.parameters.failing``) when the design space was made."""
-    return robot.with_values(robot.parameters.with_vector(p, checked=True))
-
-
-def _shared(job: _Job) -> _Out:
-    robot = job.robot
-    q, qd, qdd, t = job.shared
-    closed = robot.is_closed_chain
-    fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
-    stats = fn.designs(job.P, q, qd, qdd, reduce=True)
-    figs = torque_figures(robot, stats, closed)
-    if has_drives(robot):
-        figs.update(motor_figures(robot, fn, job.P, (q, qd, qdd), t, figs))
-    return _Out(figs, singular_designs(figs, job.start))
-
-
-def _motion_per_design(job: _Job, robot: Robot) -> _Out:
-    """The study's own motion code per design (its IK, its loops), then one C loop over the
-    batch's designs for the inverse dynamics."""
-    from ..study.motion import joint_motion
-
-    D, closed = len(job.P), robot.is_closed_chain
-    motions, failed, t = [], {}, None
-    for k, p in enumerate(job.P):
-        design = _design(robot, p)
-        try:
-            jt, _ = joint_motion(job.study, design)
-            motions.append((jt.q, jt.qd, jt.qdd))
-            t = jt.t_s  # the study's sample times: every design's
-        except PlanarSymError as exc:
-            failed[job.start + k] = str(exc)
-            motions.append(None)
-    ok = [k for k, m in enumerate(motions) if m is not None]
-    figs = {}
-    if ok:
-        q, qd, qdd = (np.ascontiguousarray(np.stack([motions[k][j] for k in ok]))
-                      for j in range(3))
-        fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
-        sub = torque_figures(robot, fn.designs(job.P[ok], q, qd, qdd, reduce=True), closed)
-        if has_drives(robot):
-            sub.update(motor_figures(robot, fn, job.P[ok], (q, qd, qdd), t, sub))
-        for name, v in sub.items():
-            figs[name] = np.full(D, np.nan)
-            figs[name][ok] = v
-        for k, why in singular_designs(sub, 0).items():
-            failed[job.start + ok[k]] = why
-    return _Out(figs, failed)
-
-
-def _per_design(job: _Job, robot: Robot) -> _Out:
-    """Simulations, controlled runs, atlases (or the exact path): the whole run per design."""
-    from dataclasses import replace
-
-    rows, failed = [], {}
-    for k, p in enumerate(job.P):
-        design = _design(robot, p)
-        st = job.study
-        if job.plant is not None:  # a control study: the design's plant over its model
-            st = replace(st, control=replace(st.control, plant=plant_overrides(
-                design, p, job.plant[k])))
-        try:
-            rows.append(atlas_figures(design, job.atlas) if job.route == "atlas"
-                        else run_figures(st, design))
-        except PlanarSymError as exc:
-            failed[job.start + k] = str(exc)
-            rows.append(None)
-    names = list(dict.fromkeys(n for r in rows if r for n in r))
-    figs = {n: np.array([np.nan if r is None else r.get(n, np.nan) for r in rows]) for n in names}
-    return _Out(figs, failed)
 
 
 def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarray | None,
@@ -403,4 +208,3 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
                       stacklevel=3)
     return SweepResult(st.name, columns, varied, space.names, dict(sorted(failed.items())),
                        route, note, on, {**info, **kinds})
-

@@ -6,184 +6,39 @@ also named ``ControlledRun``), the type an open-loop run has, with its control f
 controller's model is ``robot`` (its parameters are the nominal ones); ``plant`` is the robot
 that moves (the same description, perhaps other parameters: a model error). Closed chains run
 in segments re-projected onto the loops, as free simulations do (``forward_closed``).
+
+The C side (the struct the loop reads, its entry points) is ``engine_c``; the inputs' checks
+are ``engine_inputs``.
 """
 
 from __future__ import annotations
 
 import ctypes
-import functools
 from dataclasses import replace
 
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..progress import ambient, watching
-from ..model.arrays import as_state, as_vector
+from ..model.arrays import as_state
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
-from ..motion.signals import Signal, from_motion
-from .events import Event, EventSpec, actuator_events, joint_limit_events, output_events
-from .integrate import check_torque
+from ..motion.signals import Signal
+from ..progress import ambient, watching
+from .engine_c import MAX_EVENTS_LOGGED, _array, _functions, _Setup, control_values
+from .engine_inputs import _reference, _torque_input, check_controller
+from .events import Event, actuator_events, joint_limit_events, output_events
 from .laws import Controller
 from .run_result import Simulation, labels
-from .segments import friction, run_segments
+from .segments import run_segments
 from .watched import call_watched
+
+# the C side and the checks are named here too, where they used to live
+__all__ = ["LOOP_EVENT", "MAX_EVENTS_LOGGED", "ControlledRun", "assembly_changes",
+           "check_controller", "control_values", "simulate_controlled"]
 
 #: the name a controlled run's type had: ``Simulation`` itself
 ControlledRun = Simulation
-_P = ctypes.c_void_p
-MAX_EVENTS_LOGGED = 256
 LOOP_EVENT = "the loops could not stay assembled"
-
-
-class _CSignal(ctypes.Structure):
-    _fields_ = [("n_knots", ctypes.c_int), ("n_ch", ctypes.c_int), ("deg", ctypes.c_int),
-                ("T", _P), ("c", _P)]
-
-
-class _CControl(ctypes.Structure):  # mirrors Control in _integrate.c
-    _fields_ = [("mode", ctypes.c_int), ("saturate", ctypes.c_int),
-                ("kp", _P), ("kd", _P), ("p_nom", _P), ("tau_const", _P), ("lo", _P),
-                ("hi", _P), ("fv", _P), ("fc", _P), ("vs", _P),
-                ("gravity", _P), ("inverse", _P), ("closed_inverse", _P), ("jac", _P),
-                ("bias", _P), ("ref", _CSignal), ("input", _CSignal),
-                ("n_ev", ctypes.c_int), ("ev_kind", _P), ("ev_index", _P), ("ev_stop", _P),
-                ("ev_value", _P), ("armed", _P), ("max_log", ctypes.c_int),
-                ("n_log", ctypes.c_int), ("log_ev", _P), ("log_t", _P),
-                ("stopped", ctypes.c_int), ("t_stop", ctypes.c_double), ("y_stop", _P),
-                ("hint_ref", ctypes.c_int), ("hint_input", ctypes.c_int),
-                ("gain", _P), ("x_ref", _P), ("u_ref", _P), ("sched", _CSignal),
-                ("sched_v", _P), ("hint_sched", ctypes.c_int)]
-
-
-def _array(a, dtype=float) -> np.ndarray:
-    return np.ascontiguousarray(a, dtype=dtype)
-
-
-class _Setup:
-    """The C Control struct and every array it points to (kept alive here)."""
-
-    def __init__(self, robot: Robot, plant: Robot, ctl: Controller, ref: Signal | None,
-                 torque: np.ndarray | Signal | None, events: list[EventSpec],
-                 bound: np.ndarray):
-        na, n = len(robot.actuated), robot.n
-        lib = robot.library
-        self.keep = []
-        c = _CControl()
-        c.mode = ctl.mode
-        c.saturate = int(ctl.saturate and np.isfinite(bound).any())
-        c.kp = self._ptr(ctl.kp or np.zeros(na))
-        c.kd = self._ptr(ctl.kd or np.zeros(na))
-        c.p_nom = self._ptr(robot.p)
-        c.lo, c.hi = self._ptr(-bound), self._ptr(bound)
-        c.gain = self._ptr(ctl.gain or np.zeros(1))
-        c.x_ref = self._ptr(ctl.x_ref or np.zeros(1))
-        c.u_ref = self._ptr(ctl.u_ref or np.zeros(1))
-        if ctl.schedule is not None:  # a time-varying LQR: x_ref, u_ref and K of time
-            c.sched = self._signal(ctl.schedule)
-            self.sched_v = np.zeros(ctl.schedule.channels)
-            c.sched_v = self.sched_v.ctypes.data
-        fv, fc, vs = friction(plant)
-        c.fv, c.fc, c.vs = self._ptr(fv), self._ptr(fc), self._ptr(vs)
-        if isinstance(torque, Signal):
-            c.input = self._signal(torque)
-        elif torque is not None:
-            c.tau_const = self._ptr(torque)
-        if ref is not None:
-            c.ref = self._signal(ref)
-        for slot, quantity in (("gravity", "gravity"), ("inverse", "inverse_dynamics"),
-                               ("closed_inverse", "closed_inverse_dynamics"),
-                               ("jac", "constraint_jacobian"), ("bias", "constraint_bias")):
-            if quantity in lib.manifest["functions"]:
-                setattr(c, slot, lib.address(quantity))
-        c.n_ev = len(events)
-        c.ev_kind = self._ptr([e.kind for e in events], np.intc)
-        c.ev_index = self._ptr([e.index for e in events], np.intc)
-        c.ev_stop = self._ptr([int(e.stop) for e in events], np.intc)
-        c.ev_value = self._ptr([e.value for e in events])
-        self.armed = _array(np.ones(max(len(events), 1)), np.intc)
-        c.armed = self.armed.ctypes.data
-        c.max_log = MAX_EVENTS_LOGGED
-        self.log_ev = np.zeros(MAX_EVENTS_LOGGED, dtype=np.intc)
-        self.log_t = np.zeros(MAX_EVENTS_LOGGED)
-        c.log_ev, c.log_t = self.log_ev.ctypes.data, self.log_t.ctypes.data
-        self.y_stop = np.zeros(2 * n + 2)
-        c.y_stop = self.y_stop.ctypes.data
-        self.c = c
-        self.act = _array(robot.actuated, np.intc)
-        self.bound = bound
-
-    def _ptr(self, a, dtype=float) -> int:
-        arr = _array(a if len(a) else [0], dtype)
-        self.keep.append(arr)
-        return arr.ctypes.data
-
-    def _signal(self, s: Signal) -> _CSignal:
-        out = _CSignal()
-        out.n_knots, out.n_ch, out.deg = len(s.knots_s), s.channels, s.degree
-        out.T, out.c = self._ptr(s.knots_s), self._ptr(s.coefficients.ravel())
-        return out
-
-
-@functools.cache
-def _functions():
-    """The C entry points, their argument types declared once per process."""
-    from .integrate import helper
-
-    lib = helper()
-    run = lib.planar_sym_dopri5_ctl
-    run.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.c_int, _P, _P, _P, _P,
-                    ctypes.POINTER(_CControl), ctypes.c_double, _P, ctypes.c_int, _P,
-                    ctypes.c_double, ctypes.c_double, ctypes.c_longlong, _P, _P, _P]
-    run.restype = ctypes.c_int
-    ev = lib.planar_sym_control_eval
-    ev.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, _P, _P, ctypes.POINTER(_CControl),
-                   ctypes.c_longlong, _P, _P, _P, _P, _P]
-    ev.restype = ctypes.c_int
-    return run, ev
-
-
-def control_values(robot: Robot, setup: _Setup, t: np.ndarray, y: np.ndarray):
-    """Commanded and applied torques (N, actuated) and event values (N, events) at states
-    ``y`` (N, 2n) and times ``t`` (s), from the compiled controller."""
-    _, ev = _functions()
-    na, n_ev = len(robot.actuated), setup.c.n_ev
-    t, y = _array(t), _array(y[:, :2 * robot.n])
-    cmd, app = np.empty((len(t), na)), np.empty((len(t), na))
-    g = np.empty((len(t), max(n_ev, 1)))
-    rc = ev(robot.n, robot.n_constraints, na, setup.act.ctypes.data, robot.p.ctypes.data, ctypes.byref(setup.c), len(t), t.ctypes.data,
-            y.ctypes.data, cmd.ctypes.data, app.ctypes.data, g.ctypes.data)
-    if rc:
-        raise SimulationError(f"{robot.name}: the controller failed at t = {t[rc - 1]:.6g} s "
-                              "(a singular pose of the controller's model?)")
-    return cmd, app, g[:, :n_ev]
-
-
-def check_controller(robot: Robot, ctl: Controller) -> None:
-    """Refuse a law the robot cannot carry out."""
-    if ctl.kind == "computed_torque" and not robot.is_closed_chain \
-            and len(robot.actuated) != robot.n:
-        passive = [robot.coordinates[i] for i in range(robot.n) if i not in robot.actuated]
-        raise InputError(f"{robot.name}: computed-torque control needs every coordinate "
-                         f"actuated or set by the loops; {', '.join(passive)} "
-                         f"{'is' if len(passive) == 1 else 'are'} passive (underactuated): "
-                         "use controller \"pd\"")
-    if robot.is_closed_chain and robot.n - len(robot.actuated) != robot.n_constraints:
-        raise InputError(f"{robot.name}: control of a closed chain needs as many passive "
-                         f"coordinates ({robot.n - len(robot.actuated)}) as loop equations "
-                         f"({robot.n_constraints})")
-    na, n = len(robot.actuated), robot.n
-    if ctl.kind == "lqr" and ctl.schedule is not None and \
-            ctl.schedule.channels != 2 * n + na + 2 * n * na:
-        raise InputError(f"{robot.name}: this time-varying LQR law was designed for another "
-                         "robot (make it with planar_sym.tvlqr on this one)")
-    if ctl.kind == "lqr" and ctl.schedule is None and len(ctl.gain) != 2 * n * na:
-        raise InputError(f"{robot.name}: this LQR law was designed for another robot (make "
-                         "it with planar_sym.lqr on this one)")
-    for k in (ctl.kp, ctl.kd):
-        if k and len(k) not in (1, len(robot.actuated)):
-            raise InputError(f"{robot.name}: {len(k)} gains for {len(robot.actuated)} "
-                             "actuated joints")
 
 
 def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
@@ -361,42 +216,6 @@ def assembly_changes(robot: Robot, t: np.ndarray, q: np.ndarray) -> list[Event]:
     return [Event(f"the mechanism passed through a singular pose (det Phi_p changed sign between "
                   f"t = {t[k]:.6g} and {t[k + 1]:.6g} s) and changed assembly mode", float(t[k + 1]),
                   False)]
-
-
-def _reference(robot: Robot, reference, ctl: Controller) -> Signal | None:
-    na = len(robot.actuated)
-    if ctl.kind == "lqr":  # it holds its own state; a reference would not be used
-        if reference is not None:
-            raise InputError("controller \"lqr\" holds the state it was designed about "
-                             "and takes no reference motion")
-        return None
-    if reference is None:
-        if ctl.kind != "none":
-            raise InputError(f"controller {ctl.kind!r} needs a reference motion to track")
-        return None
-    if isinstance(reference, JointTrajectory):
-        act = list(robot.actuated)
-        return from_motion(reference.t_s, reference.q[:, act], reference.qd[:, act],
-                           reference.qdd[:, act])
-    if isinstance(reference, Signal):
-        if reference.channels != na:
-            raise InputError(f"the reference has {reference.channels} channels; "
-                             f"{robot.name} has {na} actuated joints")
-        return reference
-    raise InputError("reference: a JointTrajectory (every coordinate) or a Signal over the "
-                     f"actuated joints (got {type(reference).__name__})")
-
-
-def _torque_input(torque, na: int, t0: float, t1: float):
-    if torque is None or isinstance(torque, Signal):
-        if isinstance(torque, Signal):
-            check_torque(torque, na)  # its width, by simulate's rule
-            torque.covers(t0, t1, "the torque table")
-        return torque
-    if callable(torque):
-        raise InputError("a torque function of time runs in Python; in the compiled loop give "
-                         "a table (planar_sym.motion.signals.from_table) or a constant")
-    return as_vector("torque", torque, na)
 
 
 def _dopri5(robot, plant, setup, y0, t, rtol, atol, max_steps):

@@ -20,7 +20,8 @@ POLL_S = 0.1
 def call_watched(call: Callable[[], int], reached: ctypes.c_double, t_end_s: float,
                  progress: Callable[[float, float], None] | None) -> int:
     """``call()`` (a ctypes call returning an int); with ``progress``, run in a worker thread
-    and ``progress(reached.value, t_end_s)`` called every POLL_S until it returns."""
+    and ``progress(reached.value, t_end_s)`` called every POLL_S until it has returned (at
+    least once, at its end)."""
     if progress is None:
         return call()
     box: dict = {}
@@ -34,9 +35,11 @@ def call_watched(call: Callable[[], int], reached: ctypes.c_double, t_end_s: flo
     # a daemon: Ctrl-C ends the program at once instead of waiting for the C loop to finish
     worker = threading.Thread(target=work, name="planar-sym integrator", daemon=True)
     worker.start()
-    while worker.is_alive():
+    while True:  # read at least once, after the first wait: a quick run still reports its end
         worker.join(POLL_S)
         progress(reached.value, t_end_s)
+        if not worker.is_alive():
+            break
     if "exc" in box:
         raise box["exc"]
     return box["rc"]
