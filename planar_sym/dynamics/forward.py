@@ -26,8 +26,8 @@ from ..errors import InputError, SimulationError
 from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
-from ..progress import watching
 from ..motion.signals import Signal
+from ..progress import watching
 from .integrate import (
     SCIPY_METHODS,
     Simulation,

@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..progress import ambient
 from ..model.compile import load_helper
 from ..model.robot import Robot
 from ..motion.signals import Signal
+from ..progress import ambient
 from .run_result import Simulation, labels
 from .watched import call_watched
 
