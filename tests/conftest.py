@@ -130,6 +130,20 @@ def derived(tmp_path_factory):
     return get
 
 
+def serial_2dof_in_cm(folder: Path) -> Path:
+    """The seed's 2-DOF arm typed again in cm (``serial_2dof.toml`` with every length x 100
+    and ``length = "cm"``): the same robot, another unit. Returns its path."""
+    text = (ROBOTS_DIR / "serial_2dof.toml").read_text()
+    for a, b in (('length = "m"', 'length = "cm"'), ("[0.0373, 0.0]", "[3.73, 0.0]"),
+                 ("[0.04168, 0.0]", "[4.168, 0.0]"), ("[0.1, 0.0]", "[10.0, 0.0]"),
+                 ("[0.2, 0.0]", "[20.0, 0.0]")):
+        assert a in text
+        text = text.replace(a, b)
+    path = Path(folder) / "serial_2dof.toml"
+    path.write_text(text)
+    return path
+
+
 def seed_studies() -> dict:
     """The built-in studies (the seed's scenarios), by name."""
     from planar_sym.study.builtin import names

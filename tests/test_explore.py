@@ -236,13 +236,15 @@ def test_task_sliders_move_the_task_point_in_its_working_mode():
     robot = ps.load("serial_2dof")
     view = ps.explore(robot, task=True, q_start=[0.3, 1.0])
     assert view.report.ok and set(view.sliders) == {"x", "y"}
-    assert view.sliders["x"].description == "task x (mm)"
-    view.sliders["x"].value -= 20.0
-    view.sliders["y"].value += 15.0
+    # the arm is typed in m: its sliders read m, to 0.1 mm
+    assert view.sliders["x"].description == "task x (m)"
+    assert view.sliders["x"].readout_format == ".4f"
+    view.sliders["x"].value -= 0.02
+    view.sliders["y"].value += 0.015
     report = view.report
     assert report.ok, report.message
-    np.testing.assert_allclose(report.task * 1e3, [view.sliders["x"].value,
-                                                   view.sliders["y"].value], atol=1e-9)
+    np.testing.assert_allclose(report.task, [view.sliders["x"].value,
+                                             view.sliders["y"].value], atol=1e-12)
     assert report.q[1] > 0  # the elbow stays bent the way it started
     tau = robot.inverse_dynamics(report.q, np.zeros(2), np.zeros(2))
     assert np.max(np.abs(report.tau - tau)) <= TOL * np.max(np.abs(tau))
@@ -254,10 +256,30 @@ def test_task_sliders_move_the_task_point_in_its_working_mode():
     assert np.max(np.abs(rrr.robot.constraint(rrr.report.q))) < 1e-9
 
 
-def test_a_slider_driven_chain_shows_newtons_and_millimetres():
+def test_a_robot_typed_in_cm_is_explored_in_cm(tmp_path):
+    """The seed's arm typed in cm: its task sliders read cm (to 0.1 mm), a move of 2 cm is
+    0.02 m in the report, the picture's axes are in cm, and the torques are those of the arm
+    typed in m at the same pose."""
+    from conftest import serial_2dof_in_cm
+
+    view = ps.explore(str(serial_2dof_in_cm(tmp_path)), task=True, q_start=[0.3, 1.0])
+    assert view.sliders["x"].description == "task x (cm)"
+    assert view.sliders["x"].readout_format == ".2f"
+    start = view.report.task.copy()
+    view.sliders["x"].value -= 2.0
+    assert view.report.ok, view.report.message
+    np.testing.assert_allclose(view.report.task - start, [-0.02, 0.0], atol=1e-12)
+    fig = ps.outputs.explore.pose_figure(view.robot, view._desc, view.report.q)
+    assert fig.axes[0].get_xlabel() == "x (cm)"
+    in_m = ps.load("serial_2dof")
+    tau = in_m.inverse_dynamics(view.report.q, np.zeros(2), np.zeros(2))
+    assert np.max(np.abs(view.report.tau - tau)) <= 1e-12 * np.max(np.abs(tau))
+
+
+def test_a_slider_driven_chain_shows_newtons_and_metres():
     view = ps.explore("slider_crank_slider_driven")
-    assert view.sliders["slide"].description == "slide (mm)"
-    view.sliders["slide"].value += 5.0
+    assert view.sliders["slide"].description == "slide (m)"
+    view.sliders["slide"].value += 0.005
     assert view.report.ok, view.report.message
     assert re.search(r"<td>tau slide</td><td>\S+ N</td>", view.readout.value)
 

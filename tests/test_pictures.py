@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ALL_ROBOTS, BUILTIN_ROBOTS, CLOSED, ROBOTS_DIR, ROOT, seed_studies
+from conftest import (ALL_ROBOTS, BUILTIN_ROBOTS, CLOSED, ROBOTS_DIR, ROOT, seed_studies,
+                      serial_2dof_in_cm)
 from PIL import Image
 
 import planar_sym as ps
@@ -421,14 +422,7 @@ def test_an_atlas_of_a_robot_typed_in_cm_is_mapped_in_cm(tmp_path):
     axes in cm with limits 100 times those of the arm typed in m, L_c in cm."""
     from planar_sym.outputs.atlas_plots import atlas_figure
 
-    text = (ROBOTS_DIR / "serial_2dof.toml").read_text()
-    for a, b in (('length = "m"', 'length = "cm"'), ("[0.0373, 0.0]", "[3.73, 0.0]"),
-                 ("[0.04168, 0.0]", "[4.168, 0.0]"), ("[0.1, 0.0]", "[10.0, 0.0]"),
-                 ("[0.2, 0.0]", "[20.0, 0.0]")):
-        assert a in text
-        text = text.replace(a, b)
-    path = tmp_path / "serial_2dof.toml"
-    path.write_text(text)
+    path = serial_2dof_in_cm(tmp_path)
     in_cm, in_m = ps.atlas(str(path), points=11), ps.atlas("serial_2dof", points=11)
     assert (in_cm.length_unit, in_m.length_unit) == ("cm", "m")
     assert np.allclose(in_cm.x_m, in_m.x_m, rtol=0, atol=1e-12)

@@ -14,7 +14,7 @@ next so a closed chain keeps its assembly mode and an arm its working mode) retu
 cannot be reached is a report with a ``message``, never an exception: the widget shows that
 message and keeps drawing the last pose reached.
 
-Units shown: angles in deg, lengths in mm (the drawing's unit), torques in N*m (N at a slider),
+Units shown: angles in deg, lengths in the unit the robot is typed in (the drawing's), torques in N*m (N at a slider),
 forces in N; every array of a report is SI (rad, m, N*m, N).
 
 Only ``explore`` imports ipywidgets and matplotlib, when it is called.
@@ -30,17 +30,32 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.robot import Robot
-from .explore_report import LOAD_HEADER, SHOWN, TASK_SHOWN, PoseReport, report_html
+from .explore_report import LOAD_HEADER, PoseReport, report_html, shown, task_shown
 from .explore_state import ExploreState, _shown, pose_report, task_report
 
-__all__ = ["LOAD_HEADER", "SHOWN", "TASK_SHOWN", "ExploreState", "Explorer", "PoseReport",
-           "explore", "pose_figure", "pose_report", "report_html", "task_report"]
+#: decimals a length slider reads to, by the robot's length unit: 0.1 mm in each
+SLIDER_DIGITS = {"mm": 1, "cm": 2, "m": 4}
+
+__all__ = [
+    "LOAD_HEADER",
+    "ExploreState",
+    "Explorer",
+    "PoseReport",
+    "explore",
+    "pose_figure",
+    "pose_report",
+    "report_html",
+    "shown",
+    "task_report",
+    "task_shown",
+]
 
 
 def pose_figure(robot: Robot, desc, q, title: str = "", limits=None):
     """The robot drawn at one pose ``q`` (n,), rad (m at a slider): ``drawing.Scene`` on a
-    6 x 4.5 in Figure in mm; ``limits`` ((x0, x1), (y0, y1)) in mm widen the view to hold
-    them (so a moving robot's view does not jump). Returns the Figure."""
+    6 x 4.5 in Figure in the robot's length unit; ``limits`` ((x0, x1), (y0, y1)) in that
+    unit widen the view to hold them (so a moving robot's view does not jump). Returns the
+    Figure."""
     from .drawing import Scene, geometry
     from .plots import new_figure, tight
 
@@ -80,13 +95,13 @@ class Explorer:
     state : ExploreState
         The pose shown and the rates set (SI).
     task : bool
-        Whether the sliders move the task point (x, y in mm, phi in deg) instead of the
-        actuated joints (deg; mm at a slider).
+        Whether the sliders move the task point (x, y in the robot's length unit, phi in deg)
+        instead of the actuated joints (deg; the length unit at a slider).
     sliders : dict of str to ipywidgets.FloatSlider
         By actuated joint name (or task coordinate name).
     qd, qdd : dict of str to ipywidgets.FloatText
-        By actuated joint name: its rate (deg/s; mm/s at a slider) and acceleration (deg/s^2;
-        mm/s^2).
+        By actuated joint name: its rate (deg/s; length unit/s at a slider) and acceleration
+        (deg/s^2; length unit/s^2).
     picture : ipywidgets.Image
         The robot drawn at the pose shown (PNG).
     readout : ipywidgets.HTML
@@ -113,35 +128,42 @@ class Explorer:
         q0 = self.state.q
         style = {"description_width": "initial"}
         layout = w.Layout(width="420px")
-        low, high = (np.array(c) * 1e3 for c in self._extent(q0))
+        coordinate, task_units = shown(robot), task_shown(robot)
+        low, high = (np.array(c) * coordinate["m"][0] for c in self._extent(q0))
         span = float(max(high - low))
+        # a length slider reads to 0.1 mm in any unit, steps a thousandth of the robot's size
+        digits = SLIDER_DIGITS[robot.length_unit]
+
+        def length(share: float) -> tuple[float, float, int]:
+            """(half range, step, decimals) of a length slider: ``share`` of the span."""
+            return share * span, max(round(span / 1000, digits + 2), 10.0 ** -(digits + 2)), \
+                digits
+
         self.sliders = {}
         if task:
             x0 = self.state.report.task
             for name, v in zip(robot.task_names, x0):
-                scale, unit = TASK_SHOWN[name]
-                half = 180.0 if name == "phi" else 0.6 * span
-                step = 0.5 if name == "phi" else max(round(span / 1000, 3), 0.001)
+                scale, unit = task_units[name]
+                half, step, digits = (180.0, 0.5, 1) if name == "phi" else length(0.6)
                 self.sliders[name] = w.FloatSlider(
-                    value=v * scale, min=round(v * scale - half, 1),
-                    max=round(v * scale + half, 1), step=step,
+                    value=v * scale, min=round(v * scale - half, digits),
+                    max=round(v * scale + half, digits), step=step,
                     description=f"task {name} ({unit})", style=style, layout=layout,
-                    readout_format=".1f")
+                    readout_format=f".{digits}f")
         else:
             for i in robot.actuated:
                 name, unit = robot.coordinates[i], robot.coordinate_units[i]
-                scale, shown = SHOWN[unit]
+                scale, unit_shown = coordinate[unit]
                 v = q0[i] * scale
-                half = 180.0 if unit == "rad" else 0.5 * span
-                step = 0.5 if unit == "rad" else max(round(span / 1000, 3), 0.001)
+                half, step, digits = (180.0, 0.5, 1) if unit == "rad" else length(0.5)
                 self.sliders[name] = w.FloatSlider(
-                    value=v, min=round(v - half, 1), max=round(v + half, 1), step=step,
-                    description=f"{name} ({shown})", style=style, layout=layout,
-                    readout_format=".1f")
+                    value=v, min=round(v - half, digits), max=round(v + half, digits),
+                    step=step, description=f"{name} ({unit_shown})", style=style,
+                    layout=layout, readout_format=f".{digits}f")
         self.qd, self.qdd = {}, {}
         small = w.Layout(width="210px")
         for i in robot.actuated:
-            name, unit = robot.coordinates[i], SHOWN[robot.coordinate_units[i]][1]
+            name, unit = robot.coordinates[i], coordinate[robot.coordinate_units[i]][1]
             self.qd[name] = w.FloatText(value=0.0, description=f"qd {name} ({unit}/s)",
                                         style=style, layout=small)
             self.qdd[name] = w.FloatText(value=0.0, description=f"qdd {name} ({unit}/s^2)",
@@ -173,15 +195,16 @@ class Explorer:
     def _on_move(self, _change=None) -> None:
         values = [s.value for s in self.sliders.values()]
         if self.task:
-            self.state.move_task([v / TASK_SHOWN[n][0] for n, v in zip(self.sliders, values)])
+            task = task_shown(self.robot)
+            self.state.move_task([v / task[n][0] for n, v in zip(self.sliders, values)])
         else:
             self.state.move_actuated(
-                [v / SHOWN[self.robot.coordinate_units[i]][0]
+                [v / shown(self.robot)[self.robot.coordinate_units[i]][0]
                  for i, v in zip(self.robot.actuated, values)])
         self._show()
 
     def _on_rates(self, _change=None) -> None:
-        units = [SHOWN[self.robot.coordinate_units[i]][0] for i in self.robot.actuated]
+        units = [shown(self.robot)[self.robot.coordinate_units[i]][0] for i in self.robot.actuated]
         qd = [b.value / s for b, s in zip(self.qd.values(), units)]
         qdd = [b.value / s for b, s in zip(self.qdd.values(), units)]
         try:
@@ -218,8 +241,8 @@ class Explorer:
 def explore(robot: Robot | str, task: bool = False, q_start=None) -> Explorer:
     """An interactive view of a robot in a notebook: sliders move it, torques and loads follow.
 
-    Sliders for the actuated joints (deg; mm at a slider) or, with ``task=True``, for the task
-    point x, y (mm) and phi (deg), solved by inverse kinematics from the pose shown (its
+    Sliders for the actuated joints (deg; at a slider the length unit the robot is typed in)
+    or, with ``task=True``, for the task point x, y (in that unit) and phi (deg), solved by inverse kinematics from the pose shown (its
     working mode kept); a closed chain's passive joints follow through the loops from the pose
     shown (its assembly mode kept). Text boxes set the actuated joints' rates (deg/s) and
     accelerations (deg/s^2), default 0: the static torques, gravity only. Shown live: the

@@ -1,7 +1,7 @@
 """What ``explore`` shows at one pose, as numbers and rows: ``PoseReport`` and its HTML.
 
 A report holds SI arrays (rad, m, N*m, N); its rows and ``report_html`` show them as the
-sliders do: angles in deg, lengths in mm (the drawing's unit), torques in N*m (N at a slider),
+sliders do: angles in deg, lengths in the robot's own unit (the drawing's), torques in N*m (N at a slider),
 forces in N.
 """
 
@@ -13,13 +13,23 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.reactions import JointLoads
+from ..model.length_unit import per_metre
 from ..model.loops import COND_WARN
 from ..model.robot import Robot
 
-#: how a coordinate is shown, by its SI unit: (factor from SI, unit shown)
-SHOWN = {"rad": (180.0 / np.pi, "deg"), "m": (1e3, "mm")}
-#: task coordinates shown: x, y in mm, phi in deg
-TASK_SHOWN = {"x": (1e3, "mm"), "y": (1e3, "mm"), "phi": (180.0 / np.pi, "deg")}
+DEG = (180.0 / np.pi, "deg")
+
+
+def shown(robot: Robot) -> dict[str, tuple[float, str]]:
+    """How a coordinate is shown, by its SI unit: (factor from SI, unit shown): angles in deg,
+    lengths in the unit the robot's description is typed in (its drawing's)."""
+    return {"rad": DEG, "m": (per_metre(robot.length_unit), robot.length_unit)}
+
+
+def task_shown(robot: Robot) -> dict[str, tuple[float, str]]:
+    """How the task coordinates are shown: x, y as the robot's lengths, phi in deg."""
+    length = shown(robot)["m"]
+    return {"x": length, "y": length, "phi": DEG}
 
 
 @dataclass(frozen=True)
@@ -74,17 +84,18 @@ class PoseReport:
         return not self.message
 
     def pose_rows(self, robot: Robot) -> list[tuple[str, str]]:
-        """(name, value with unit) of every coordinate (deg; mm at a slider), marking the
-        actuated ones, then the task point (mm, deg) and a closed chain's loop residual (m)."""
-        rows = []
+        """(name, value with unit) of every coordinate (deg; the robot's length unit at a
+        slider), marking the actuated ones, then the task point and a closed chain's loop
+        residual (m)."""
+        rows, coordinate, task = [], shown(robot), task_shown(robot)
         for k, (name, unit) in enumerate(zip(robot.coordinates, robot.coordinate_units)):
-            scale, shown = SHOWN[unit]
+            scale, unit_shown = coordinate[unit]
             role = "actuated" if k in robot.actuated else "passive"
-            rows.append((f"q{k + 1} {name} ({role})", f"{self.q[k] * scale:.3f} {shown}"))
+            rows.append((f"q{k + 1} {name} ({role})", f"{self.q[k] * scale:.3f} {unit_shown}"))
         if self.task is not None:
             for name, value in zip(robot.task_names, self.task):
-                scale, shown = TASK_SHOWN[name]
-                rows.append((f"task {name}", f"{value * scale:.3f} {shown}"))
+                scale, unit_shown = task[name]
+                rows.append((f"task {name}", f"{value * scale:.3f} {unit_shown}"))
         if self.loop_residual_m is not None:
             rows.append(("loop residual max|Phi|", f"{self.loop_residual_m:.2g} m"))
         if self.condition is not None and self.condition > COND_WARN:
@@ -135,7 +146,7 @@ LOAD_HEADER = ("joint", "type", "F_x (N)", "F_y (N)", "|F| (N)", "couple M (N*m)
 
 def report_html(report: PoseReport, robot: Robot) -> str:
     """A report as an HTML fragment: the message (red, if any), the torques, the pose and
-    every joint's load, each value with its unit (deg, mm, N*m, N)."""
+    every joint's load, each value with its unit (deg, the robot's length unit, N*m, N)."""
     from .notebook import _STYLE, _table
 
     parts = [f'<div class="planar-sym">{_STYLE}']

@@ -14,7 +14,7 @@ import numpy as np
 from ..dynamics.reactions import joint_loads
 from ..errors import InputError, PlanarSymError
 from ..model.robot import Robot
-from .explore_report import SHOWN, TASK_SHOWN, PoseReport
+from .explore_report import PoseReport, shown, task_shown
 
 #: a task move is followed by inverse kinematics through samples at most this far apart (m; rad
 #: for phi), so Newton's continuation and its branch check see a smooth motion
@@ -48,9 +48,9 @@ def _start(robot: Robot, q_previous) -> np.ndarray:
 
 def _shown(robot: Robot, indices, values) -> str:
     """``A = 120 deg, E = 60 deg``: coordinates (SI) as the sliders show them."""
-    out = []
+    out, coordinate = [], shown(robot)
     for i, v in zip(indices, values):
-        scale, unit = SHOWN[robot.coordinate_units[i]]
+        scale, unit = coordinate[robot.coordinate_units[i]]
         out.append(f"{robot.coordinates[i]} = {v * scale:.4g} {unit}")
     return ", ".join(out)
 
@@ -174,7 +174,8 @@ def task_report(robot: Robot, x, qd=None, qdd=None, q_previous=None) -> PoseRepo
         raise InputError(f"{robot.name}: x must be {nt} finite numbers "
                          f"({', '.join(robot.task_names)}: m, rad), got {np.asarray(x).tolist()}")
     qd_act, qdd_act = _rates(robot, qd, "qd"), _rates(robot, qdd, "qdd")
-    shown = ", ".join(f"{n} = {v * TASK_SHOWN[n][0]:.4g} {TASK_SHOWN[n][1]}"
+    task = task_shown(robot)
+    asked = ", ".join(f"{n} = {v * task[n][0]:.4g} {task[n][1]}"
                       for n, v in zip(robot.task_names, target))
     from ..motion.newton import check_square, start_pose
 
@@ -195,7 +196,7 @@ def task_report(robot: Robot, x, qd=None, qdd=None, q_previous=None) -> PoseRepo
         motion = cubic(start, step, 1.0, np.linspace(0.0, 1.0, samples))
         q = inverse_kinematics(robot, motion, solver="newton", q_start=q_prev).q[-1]
     except PlanarSymError as exc:
-        why = (f"Out of reach: the task point cannot go to {shown} from the last pose in its "
+        why = (f"Out of reach: the task point cannot go to {asked} from the last pose in its "
                f"working mode; the last pose reached is shown. (Details: {exc})")
         return _at(robot, q_prev, qd_act, qdd_act, False, why)
     return _at(robot, q, qd_act, qdd_act, True)
