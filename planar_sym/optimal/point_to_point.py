@@ -92,12 +92,17 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     own = act if closed else list(range(n))  # the coordinates integrated
     a0, a1 = (_ends(robot, q, name, own) for q, name in ((q_start, "q_start"),
                                                          (q_end, "q_end")))
+    # a closed chain's start given as a pose on its loops: its assembly mode, where the
+    # passive joints' first guess starts (else the drawn one's)
+    seed = (np.asarray(q_start, dtype=float).ravel() if closed
+            and np.size(q_start) == n else None)
     v = (description_speed_limits(robot) if speed_limit is None
          else speed_limits(robot, speed_limit))
     if objective != "time":
-        return _within_limits(robot, a0, a1, objective, duration_s, lim, v, int(intervals))
+        return _within_limits(robot, a0, a1, objective, duration_s, lim, v, int(intervals),
+                              seed=seed)
     try:
-        return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals))
+        return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals), seed=seed)
     except SimulationError as first:
         failed = first
     # the fastest move from a cubic guess can fail where the limits ask for a swing (a weak
@@ -106,7 +111,8 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     duration = 1.0
     for _ in range(WARM_TRIES):
         try:
-            warm = _within_limits(robot, a0, a1, "effort", duration, lim, v, int(intervals))
+            warm = _within_limits(robot, a0, a1, "effort", duration, lim, v, int(intervals),
+                                  seed=seed)
         except SimulationError:
             duration *= 2.0
             continue
@@ -117,27 +123,28 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     raise failed
 
 
-def _within_limits(robot: Robot, a0, a1, objective: str, duration: float, lim, v, N: int
-                   ) -> OptimalMove:
+def _within_limits(robot: Robot, a0, a1, objective: str, duration: float, lim, v, N: int,
+                   seed=None) -> OptimalMove:
     """The best move of ``duration`` (s) by ``objective`` ("effort" or "energy") within the
     limits: from a cubic, or where that fails, from the same move without limits. Raises the
     first SimulationError when neither is found."""
     try:
-        return _solve(robot, a0, a1, objective, duration, lim, v, N)
+        return _solve(robot, a0, a1, objective, duration, lim, v, N, seed=seed)
     except SimulationError as first:
         if lim is None and v is None:
             raise
         try:
-            free = _solve(robot, a0, a1, objective, duration, None, None, N)
+            free = _solve(robot, a0, a1, objective, duration, None, None, N, seed=seed)
             return _solve(robot, a0, a1, objective, duration, lim, v, N, free)
         except SimulationError:
             raise first from None
 
 
 def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
-           warm: OptimalMove | None = None) -> OptimalMove:
+           warm: OptimalMove | None = None, seed=None) -> OptimalMove:
     """One IPOPT solve (see the module docstring); ``warm``: a move to start from (else a
-    cubic). Raises SimulationError when IPOPT finds no solution."""
+    cubic; ``seed``: a closed chain's start pose, whose assembly mode the cubic's passive
+    joints take). Raises SimulationError when IPOPT finds no solution."""
     import casadi as ca
 
     n, act, closed = robot.n, list(robot.actuated), robot.is_closed_chain
@@ -212,7 +219,7 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
         opti.minimize(h / 2 * (ca.sumsqr(ca.horzcat(*starts)) + ca.sumsqr(ca.horzcat(*ends))))
     if warm is None:
         _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T,
-               duration_s)
+               duration_s, seed)
     else:
         _warm(opti, warm, own, pas, closed, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T)
     opti.solver("ipopt", {"print_time": False, "expand": True},
@@ -283,11 +290,12 @@ def _warm(opti, warm: OptimalMove, own, pas, closed, Qi, Vi, Ai, Qp, Vp, Ap, T) 
         opti.set_initial(T, warm.duration_s)
 
 
-def _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, Ap, T, duration_s
-           ) -> None:
+def _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, Ap, T, duration_s,
+           seed=None) -> None:
     """A cubic rest-to-rest move between the ends over the duration (1 s when the time is
     free), its rates and its accelerations at the intervals' midpoints; a closed chain's
-    passive joints from its loops (``initial_guess`` gives the same for the integrated ones)."""
+    passive joints from its loops, in the assembly mode of ``seed`` (a pose; default the
+    drawn one) (``initial_guess`` gives the same for the integrated ones)."""
     t, q, qd, qdd = initial_guess(a0, a1, N, 1.0 if duration_s is None else duration_s)
     opti.set_initial(Qi, q.T)
     opti.set_initial(Vi, qd.T)
@@ -296,7 +304,7 @@ def _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, Ap, T, 
         from ..motion.closure import from_actuated
 
         mid = np.vstack([qdd, qdd[-1:]])
-        jt = from_actuated(robot, t, q, qd, mid)
+        jt = from_actuated(robot, t, q, qd, mid, q_guess=seed)
         opti.set_initial(Qp, jt.q[:, pas].T)
         opti.set_initial(Vp, jt.qd[:, pas].T)
         for var in Ap:
