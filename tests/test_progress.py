@@ -258,3 +258,34 @@ def test_run_shows_the_simulation_clock_on_a_terminal_only(tmp_path, monkeypatch
     assert tty.getvalue() == ""
     name = "serial_2dof_free_swing.csv"
     assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
+
+
+def test_a_watched_call_returns_its_value_and_raises_its_error_in_the_caller():
+    """call_watched as the C loop's caller sees it: the call's return code comes back, an
+    error raised in the worker is raised again in the caller (not lost in the thread), and the
+    worker is a daemon thread named for thread dumps, so Ctrl-C ends the program at once."""
+    import ctypes
+    import threading
+
+    import pytest
+
+    from planar_sym.dynamics.watched import call_watched
+
+    clock, heard = ctypes.c_double(2.5), []
+    seen = {}
+
+    def call():
+        me = threading.current_thread()
+        seen.update(daemon=me.daemon, name=me.name, main=me is threading.main_thread())
+        return 7
+
+    assert call_watched(call, clock, 10.0, lambda t, end: heard.append((t, end))) == 7
+    assert seen == {"daemon": True, "name": "planar-sym integrator", "main": False}
+    assert heard and heard[-1] == (2.5, 10.0)
+    assert call_watched(lambda: 3, clock, 10.0, None) == 3  # no clock: called directly
+
+    def fails():
+        raise ZeroDivisionError("in the C loop's caller")
+
+    with pytest.raises(ZeroDivisionError, match="in the C loop's caller"):
+        call_watched(fails, clock, 10.0, lambda t, end: None)
