@@ -42,7 +42,7 @@ class Config:
     actuator_pairs: tuple[str, ...] = ("tree", "closed")  # plain vs actuated 2-DOF, five-bar
     actuator_rounds: int = 5  # interleaved derivations and compilations per robot
     actuator_samples: int = 10_000
-    growth_sizes: tuple[int, ...] = (2, 4, 6, 8, 10, 12)  # links of the n-link pendulums
+    growth_sizes: tuple[int, ...] = (2, 4, 6, 8, 10, 12, 16, 20)  # links of the n-link pendulums
     growth_jansen: bool = True  # also the three-loop Jansen linkage (7 coordinates)
     growth_build_repeats: int = 3  # rounds of derive + first compile per robot
     growth_samples: int = 100_000  # states per call for the per-sample times

@@ -58,6 +58,10 @@ class Robot:
     pin: Stats | None = None
     pin_ratio: Stats | None = None
     pin_rnea: Stats | None = None  # rnea alone, inputs packed beforehand
+    pin_crba: Stats | None = None  # crba on the same packed inputs
+    pin_aba: Stats | None = None  # aba on them, fed rnea's torques
+    crba_ratio: Stats | None = None  # Pinocchio crba over our mass matrix, per round
+    aba_ratio: Stats | None = None  # Pinocchio aba over our forward dynamics, per round
     pin_note: str = ""
 
 

@@ -11,7 +11,7 @@ would by hand but without expanding anything:
     V = -sum_b m_b g (u . r_cg,b)
     p = dT/dqd                                               (reverse mode)
     tau = dp/dq qd + dp/dqd qdd - dT/dq + dV/dq + D(qd)      (forward over reverse)
-    M = dp/dqd,   h = tau at qdd = 0,   g = dV/dq
+    M = dp/dqd (summed by composite bodies, composite.py),   h = tau at qdd = 0,   g = dV/dq
 
 Each sweep costs a fixed multiple of evaluating ``T``, which the recursion makes O(n): the
 inverse dynamics is O(n) operations like Newton-Euler, ``M`` O(n^2). Loop closure likewise:
@@ -26,6 +26,7 @@ import casadi as ca
 
 from planar_sym.model.description import COULOMB_SMOOTHING, GROUND, Description
 
+from .composite import mass_matrix
 from .quantities import AD, Quantities
 from .recursion import Symbols, Tree, walk
 
@@ -92,7 +93,7 @@ def derive(desc: Description) -> Dynamics:
     bias = ca.jtimes(momentum, s.q, s.qd) - dT_dq + gravity + friction
     inverse = (ca.jtimes(momentum, ca.vertcat(s.q, s.qd), ca.vertcat(s.qd, s.qdd))
                - dT_dq + gravity + friction)
-    mass = ca.jacobian(momentum, s.qd)
+    mass = mass_matrix(desc, tree)  # composite bodies: a third of dp/dqd's operations
     return Dynamics(desc, s, tree, kinetic, potential, momentum, mass, bias, gravity, inverse,
                     names, poses, rates)
 

@@ -169,7 +169,10 @@ def _dynamics(desc: Description, nm: Names, friction: bool) -> Part:
          "costs a fixed multiple of evaluating T, so the inverse dynamics is O(n) operations, "
          "like Newton-Euler; "),
         m("M = dp/dqd", r"M = \partial p/\partial \dot q"), ", the Hessian of T in ",
-        m("qd", r"\dot q"), ", takes n such sweeps: O(n^2)."
+        m("qd", r"\dot q"), (", is summed by composite bodies instead (derive/composite.py: "
+                              "each joint's subtree once, O(n) sums, then one dot product "
+                              "an entry, O(n^2); about a third of the operations of n "
+                              "sweeps).")
         + ("" if closed else " The forward dynamics solves the linear system M qdd = "
            "tau - h (O(n^3), small for these sizes).")))
     return part

@@ -16,8 +16,12 @@
 // Prints "key value" lines: nq, nv, n, max_abs_tau, then ns per sample (best and median of
 // REPEATS timed passes over all N samples, std::chrono::steady_clock) for the whole loop
 // (best_ns, median_ns), for rnea alone (rnea_best_ns, rnea_median_ns) and for the joint-torque
-// regressor on the same packed inputs (regressor_best_ns, regressor_median_ns), and checksums
-// (keep those loops from being optimised away).
+// regressor on the same packed inputs (regressor_best_ns, regressor_median_ns), for the mass
+// matrix (crba_best_ns, crba_median_ns) and the forward dynamics (aba_best_ns, aba_median_ns,
+// fed rnea's torques) on them, and checksums (keep those loops from being optimised away).
+// TAU_OUT.M receives every sample's mass matrix, (N, n, n) in our coordinate order and
+// symmetric (crba fills the upper triangle), and TAU_OUT.qdd aba's accelerations (N, n): the
+// caller checks them against its own.
 //
 // Compiled by pinocchio_native.py (flags there too):
 //   c++ -std=c++17 -O3 -march=native -DNDEBUG
@@ -36,6 +40,8 @@
 // free (Eigen 3.4 otherwise picks its handmade 64-byte aligned free under AVX-512 and the
 // parser's Model crashes on destruction).
 
+#include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/joint-configuration.hpp>
 #include <pinocchio/algorithm/regressor.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
@@ -209,6 +215,46 @@ int main(int argc, char ** argv)
         Tp.col(s) = pinocchio::rnea(model, data, Qp.col(s), Vp.col(s), Ap.col(s));
     });
 
+    // the mass matrix: crba fills the upper triangle; what it gives is written, symmetric
+    std::vector<double> Mout(N * n * n), QDDout(N * n);
+    double crba_check = 0.0;
+    std::vector<double> crba = time_passes([&]() {
+      for (long s = 0; s < N; ++s)
+        crba_check += pinocchio::crba(model, data, Qp.col(s))(0, model.nv - 1);
+    });
+    for (long s = 0; s < N; ++s)
+    {
+      pinocchio::crba(model, data, Qp.col(s));
+      for (int i = 0; i < n; ++i)
+        for (int k = 0; k < n; ++k)
+        {
+          const int a = std::min(coords[i].iv, coords[k].iv), b = std::max(coords[i].iv,
+                                                                            coords[k].iv);
+          Mout[(s * n + i) * n + k] = data.M(a, b);
+        }
+    }
+    // forward dynamics by articulated bodies, fed rnea's torques: gives the accelerations back
+    double aba_check = 0.0;
+    std::vector<double> aba = time_passes([&]() {
+      for (long s = 0; s < N; ++s)
+        aba_check += pinocchio::aba(model, data, Qp.col(s), Vp.col(s), Tp.col(s))[0];
+    });
+    for (long s = 0; s < N; ++s)
+    {
+      pinocchio::aba(model, data, Qp.col(s), Vp.col(s), Tp.col(s));
+      for (int i = 0; i < n; ++i)
+        QDDout[s * n + i] = data.ddq[coords[i].iv];
+    }
+    for (auto && [suffix, values] : {std::pair<const char *, std::vector<double> *>{".M", &Mout},
+                                     {".qdd", &QDDout}})
+    {
+      const std::string path = std::string(argv[6]) + suffix;
+      FILE * f = std::fopen(path.c_str(), "wb");
+      if (!f || std::fwrite(values->data(), sizeof(double), values->size(), f) != values->size())
+        throw std::runtime_error("cannot write " + path);
+      std::fclose(f);
+    }
+
     // the joint-torque regressor (nv x 10 njoints per sample): identification's baseline
     double reg_check = 0.0;
     std::vector<double> reg = time_passes([&]() {
@@ -224,6 +270,10 @@ int main(int argc, char ** argv)
                 median(full));
     std::printf("rnea_best_ns %.6g\nrnea_median_ns %.6g\n",
                 *std::min_element(bare.begin(), bare.end()), median(bare));
+    std::printf("crba_best_ns %.6g\ncrba_median_ns %.6g\ncrba_check %.17g\n",
+                *std::min_element(crba.begin(), crba.end()), median(crba), crba_check);
+    std::printf("aba_best_ns %.6g\naba_median_ns %.6g\naba_check %.17g\n",
+                *std::min_element(aba.begin(), aba.end()), median(aba), aba_check);
     std::printf("check %.17g\n", Tp.cwiseAbs().sum());
   }
   catch (const std::exception & e)

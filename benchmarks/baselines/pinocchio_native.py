@@ -1,5 +1,5 @@
-"""Pinocchio's inverse dynamics timed in a native C++ loop: the per-sample baseline for our
-compiled batch inverse dynamics.
+"""Pinocchio's inverse dynamics (and its mass matrix and forward dynamics) timed in a native C++
+loop: the per-sample baseline for our compiled batch functions.
 
 What is measured: ``pinocchio_native.cpp`` loads a URDF with ``pinocchio::urdf::buildModel``,
 then runs ``pinocchio::rnea`` over N samples in a plain C++ loop, REPEATS times, timed with
@@ -177,7 +177,9 @@ def run(urdf_path, q, qd, qdd, repeats: int = 20, gravity=None, joints=None,
     a URDF without it needs ``gravity`` (``joints`` then defaults to Pinocchio's order).
     Keys: tau (N, n), best_ns, median_ns (the whole loop, per sample), rnea_best_ns,
     rnea_median_ns (rnea alone on inputs packed beforehand), regressor_best_ns,
-    regressor_median_ns (``computeJointTorqueRegressor`` on the same inputs), nq, nv, n.
+    regressor_median_ns (``computeJointTorqueRegressor`` on the same inputs), crba_best_ns,
+    crba_median_ns (``crba`` on them) and M (N, n, n, symmetric), aba_best_ns, aba_median_ns
+    (``aba`` fed rnea's torques) and qdd (N, n, which gives qdd back), nq, nv, n.
     """
     g0, names0 = urdf_facts(urdf_path)
     gravity = g0 if gravity is None else list(gravity)
@@ -204,6 +206,8 @@ def run(urdf_path, q, qd, qdd, repeats: int = 20, gravity=None, joints=None,
         if int(out["n"]) != n:
             raise ValueError(f"{urdf_path} has {int(out['n'])} coordinates, the arrays {n}")
         out["tau"] = np.fromfile(files[3], dtype=np.float64).reshape(n_samples, n)
+        out["M"] = np.fromfile(f"{files[3]}.M", dtype=np.float64).reshape(n_samples, n, n)
+        out["qdd"] = np.fromfile(f"{files[3]}.qdd", dtype=np.float64).reshape(n_samples, n)
     return out
 
 
