@@ -10,6 +10,7 @@ from __future__ import annotations
 import ctypes
 import warnings
 from concurrent.futures import ThreadPoolExecutor
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -143,6 +144,14 @@ class Library:
             return robots_dir() / f"{self.manifest['robot']}.toml"
         copy = self.folder / "description.toml"
         return copy if copy.is_file() else None
+
+    @cached_property
+    def length_unit(self) -> str:
+        """The length unit its description is typed in ("m", "cm" or "mm"): the unit of the
+        robot's pictures (drawing, animation, atlas maps); "m" without a description at hand."""
+        from .length_unit import typed_length_unit
+
+        return typed_length_unit(self.description_file)
 
     def casadi_function(self, quantity: str):
         """One of the robot's functions as a ``casadi.Function`` (saved at derive time with

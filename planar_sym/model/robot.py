@@ -25,8 +25,7 @@ from .loop_functions import LoopFunctions
 from .loops import COND_LIMIT, LOOP_TOL_M
 from .parameter_set import Parameter, Parameters
 
-# the checks and the parameter types live in their own modules; these names stay importable
-# from here, where they were first defined
+# defined in their own modules; still importable from here, where they first were
 __all__ = ["COND_LIMIT", "LOOP_TOL_M", "Parameter", "Parameters", "Robot", "as_samples",
            "as_vector", "when"]
 
@@ -140,8 +139,7 @@ class Robot(LoopFunctions):
 
     @property
     def n(self) -> int:
-        """Number of coordinates n (passive joints of closed chains included): the last axis
-        of q, qd, qdd and tau."""
+        """Number of coordinates n (passive ones included): the last axis of q, qd, qdd, tau."""
         return len(self.coordinates)
 
     @property
@@ -151,17 +149,13 @@ class Robot(LoopFunctions):
 
     @property
     def description_file(self) -> Path | None:
-        """The description this robot was derived from, where it is at hand
-        (``Library.description_file``)."""
+        """The description it was derived from, where at hand (``Library.description_file``)."""
         return self.library.description_file
 
-    @cached_property
+    @property
     def length_unit(self) -> str:
-        """The length unit its description is typed in ("m", "cm" or "mm"): the unit of its
-        pictures (drawing, animation, atlas maps); "m" without a description at hand."""
-        from .length_unit import typed_length_unit
-
-        return typed_length_unit(self.description_file)
+        """Its description's length unit, its pictures' too (``Library.length_unit``)."""
+        return self.library.length_unit
 
     @property
     def has_friction(self) -> bool:
@@ -176,8 +170,7 @@ class Robot(LoopFunctions):
 
     @property
     def is_closed_chain(self) -> bool:
-        """Whether the robot has loops (cut joints): then ``closed_chain_inverse_dynamics``,
-        not ``inverse_dynamics``."""
+        """Whether it has loops (cut joints): then ``closed_chain_inverse_dynamics`` applies."""
         return self.n_constraints > 0
 
     @property
@@ -194,9 +187,8 @@ class Robot(LoopFunctions):
 
     @property
     def p(self) -> np.ndarray:
-        """The parameter values the compiled functions use, shape (len(parameter_list),), SI,
-        in ``parameter_list`` order; read-only: ``with_parameters`` makes a robot with
-        others."""
+        """The parameter values the compiled functions use, shape (len(parameter_list),), SI, in
+        ``parameter_list`` order; read-only (``with_parameters`` makes a robot with others)."""
         return self._parameters.vector
 
     def casadi_function(self, quantity: str):
