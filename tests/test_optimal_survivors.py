@@ -928,12 +928,9 @@ def test_least_effort_under_a_speed_limit_is_the_quadratic_programs(wheel):
     assert move.objective > J_WHEEL**2 * _least_effort(theta, T, N)[1] * 1.01
 
 
-def test_a_closed_chain_move_starts_from_the_pose_given_in_its_assembly_mode():
-    """The five-bar's start given as a pose on its loops in the other assembly mode (B =
-    -2.62 rad, D = 2.62 where the drawn pose has -1.52, 1.52): the least-effort move starts at
-    that very pose and stays in its mode to the end (the passive joints' first guess was the
-    drawn mode's, whatever the pose given: the move started elsewhere). The actuated
-    coordinates alone keep the drawn mode."""
+def _five_bar_other_mode():
+    """The five-bar, its actuated coordinates, the S5 move in the drawn assembly mode and the
+    same actuated motion in the other mode (passive joints started near -+2.6248 rad)."""
     from planar_sym.motion.closure import from_actuated
 
     fb = ps.load("five_bar_type1")
@@ -943,6 +940,16 @@ def test_a_closed_chain_move_starts_from_the_pose_given_in_its_assembly_mode():
     guess = s5.q[0].copy()
     guess[1], guess[3] = -2.6248, 2.6248
     other = from_actuated(fb, t, s5.q[:, act], s5.qd[:, act], s5.qdd[:, act], q_guess=guess)
+    return fb, act, s5, other
+
+
+def test_a_closed_chain_move_starts_from_the_pose_given_in_its_assembly_mode():
+    """The five-bar's start given as a pose on its loops in the other assembly mode (B =
+    -2.62 rad, D = 2.62 where the drawn pose has -1.52, 1.52): the least-effort move starts at
+    that very pose and stays in its mode to the end (the passive joints' first guess was the
+    drawn mode's, whatever the pose given: the move started elsewhere). The actuated
+    coordinates alone keep the drawn mode."""
+    fb, act, s5, other = _five_bar_other_mode()
     move = ps.optimal_move(fb, other.q[0], other.q[-1], objective="effort", duration_s=0.5,
                            intervals=8)
     jt = move.trajectory
@@ -960,15 +967,7 @@ def test_a_closed_chain_move_found_again_from_the_move_without_limits(monkeypatc
     start from the cubic fails (forced here): the same move without the limit, then with it
     from that one (every node, its passive joints too, handed on) gives the move the cubic
     gives, in the same mode."""
-    from planar_sym.motion.closure import from_actuated
-
-    fb = ps.load("five_bar_type1")
-    act = list(fb.actuated)
-    t = np.linspace(0.0, 2.0, 21)
-    s5 = ps.inverse_kinematics(fb, ps.cubic([0.060852, 0.154665], [0.05, 0.0], 2.0, t))
-    guess = s5.q[0].copy()
-    guess[1], guess[3] = -2.6248, 2.6248
-    other = from_actuated(fb, t, s5.q[:, act], s5.qd[:, act], s5.qdd[:, act], q_guess=guess)
+    fb, _, _, other = _five_bar_other_mode()
     ask = {"objective": "effort", "duration_s": 0.5, "intervals": 8, "torque_limit": 0.03}
     direct = ps.optimal_move(fb, other.q[0], other.q[-1], **ask)
     assert np.abs(direct.tau).max() == pytest.approx(0.03, rel=1e-6)  # the limit binds
