@@ -43,7 +43,7 @@ test-fast: $(STAMP)  ## tests without the slow re-derivation checks
 demo: derive-check build  ## every scenario, animation and robot drawing into results/ (index: results/README.md)
 	$(PY) -m planar_sym demo --out results
 
-bench: $(STAMP)  ## benchmarks vs Pinocchio, MuJoCo, lambdify and a C floor -> BENCHMARKS.md (~3 min)
+bench: $(STAMP)  ## benchmarks vs Pinocchio, MuJoCo, lambdify and a C floor -> BENCHMARKS.md (~20 min; its first line says how long the last run took)
 	$(PY) -m benchmarks
 
 # TARGET: a module or folder under planar_sym/ listed in mutation/targets.toml (several: spaces)

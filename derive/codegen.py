@@ -169,15 +169,11 @@ def render(desc: Description, equations: str = "auto", stage=None) -> dict[str, 
     c_src = (_header_comment(desc, f"{name}.c", digest) + body + "\n" + hash_fn + "\n"
              + "\n".join(_batch_wrapper(g) for g in gens))
     h_src = _header_comment(desc, f"{name}.h", digest) + _header(desc, gens)
-    looped = [g for g in gens if g.quantity in LOOPED]
-    simd_units = simd.units([g.operations for g in looped])
-    unit_operations = [sum(g.operations for g, u in zip(looped, simd_units) if u == k)
-                       for k in range(max(simd_units, default=-1) + 1)]
-    simd_src = (_header_comment(desc, f"{name}_simd.c", digest) + simd.PRELUDE
-                + simd.in_unit(0, f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) '
-                                  f'{{ return "{digest}"; }}\n')
-                + "\n".join(simd.in_unit(u, simd.loop_source(g.function))
-                             for g, u in zip(looped, simd_units)))
+    # each loop as pieces of bounded length (a big one cut into parts), shared out into units
+    simd_body, unit_operations = simd.assemble(
+        [piece for g in gens if g.quantity in LOOPED for piece in simd.loop_parts(g.function)],
+        f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) {{ return "{digest}"; }}\n')
+    simd_src = _header_comment(desc, f"{name}_simd.c", digest) + simd_body
     files = {
         f"{name}.c": c_src.encode(),
         f"{name}.h": h_src.encode(),

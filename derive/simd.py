@@ -17,6 +17,10 @@ Two details make or break that vectorisation:
   only in groups of 2^k or 3 per sample, so the 3-RRR's 7 coordinates (and its 7x7 mass
   matrix) would otherwise keep its loops scalar;
 * parameters are read into locals before the loop;
+* no function grows with the robot: a loop longer than ``PART_OPS`` statements is cut into
+  part functions (each its own vectorised loop over the block), because gcc's time and memory
+  on one function grow faster than its length; the pieces are shared out into compile units
+  of ``UNIT_OPS`` statements, compiled in parallel.
 
 Every loop has one signature, so the runtime can call any of them the same way:
 ``int <robot>_<quantity>_loop(long long n, const double *const *in, double *const *out)``.
@@ -36,6 +40,7 @@ _UNARY = {ca.OP_NEG: "(-{})", ca.OP_SIN: "sin({})", ca.OP_COS: "sin({} + M_PI_2)
           ca.OP_TANH: "tanh({})"}
 
 PRELUDE = """#include <math.h>
+#include <stdlib.h>
 /* compile units: built whole, or as units compiled in parallel, one per -DPLANAR_SYM_UNIT=k
    (the manifest's compile_units), each holding some of the loops */
 #ifdef PLANAR_SYM_UNIT
@@ -55,16 +60,28 @@ PRELUDE = """#include <math.h>
 #else
 #define PLANAR_SYM_EXPORT __attribute__((visibility("default")))
 #endif
+#if defined(_WIN32)
+#define PLANAR_SYM_PART
+#else
+#define PLANAR_SYM_PART __attribute__((visibility("hidden")))
+#endif
 """
 
 
 #: operations per compile unit: gcc's time and memory grow faster than the length of one
 #: function, so big robots' loops are compiled as several units, in parallel
 UNIT_OPS = 3000
+#: statements per function: a longer loop is cut into part functions (see ``loop_parts``).
+#: gcc's register allocation and post-reload CSE grow faster than linearly with one loop
+#: body's length (12-link chain, -O3: a 4,088-statement loop body took 11 s, a 2,942 one 3.5 s;
+#: 20 links, 11,084 statements: over 12 min and 520 MiB), so no function may exceed this.
+#: 1,500 keeps every built-in robot's loops whole (the largest, the 3-RPR's closed regressor,
+#: has 1,299)
+PART_OPS = 1500
 
 
 def units(operations: list[int]) -> list[int]:
-    """The compile unit of each loop, in file order: a new unit once ``UNIT_OPS`` is full (a
+    """The compile unit of each piece, in file order: a new unit once ``UNIT_OPS`` is full (a
     robot whose loops all fit in one compiles as one unit, as before)."""
     out, unit, filled = [], 0, 0
     for ops in operations:
@@ -73,6 +90,17 @@ def units(operations: list[int]) -> list[int]:
         out.append(unit)
         filled += ops
     return out
+
+
+def assemble(pieces: list[tuple[str, int]], first: str = "") -> tuple[str, list[int]]:
+    """The loops' file after ``PRELUDE`` (``first``, if given, in unit 0), and each compile
+    unit's statements: pieces (``loop_parts``) shared out in order by ``units``."""
+    where = units([ops for _, ops in pieces])
+    ops = [sum(n for (_, n), u in zip(pieces, where) if u == k)
+           for k in range(max(where, default=-1) + 1)]
+    body = ((in_unit(0, first) if first else "")
+            + "\n".join(in_unit(u, source) for (source, _), u in zip(pieces, where)))
+    return PRELUDE + body, ops
 
 
 def in_unit(unit: int, source: str) -> str:
@@ -87,8 +115,9 @@ def _row_major(f: ca.Function, out: int, nz: int) -> int:
 
 
 def _statements(f: ca.Function, ins, offsets):
-    """(variable, C expression, used variables) per instruction, stores, hoisted p loads."""
-    stmts, stores, current, hoisted = [], [], {}, {}
+    """(variable, C expression, used variables) per instruction, stores, hoisted p loads, and
+    the variables that are only an input load or a constant (cheaper to redo than to keep)."""
+    stmts, stores, current, hoisted, cheap = [], [], {}, {}, set()
     for k in range(f.n_instructions()):
         op, a, r = f.instruction_id(k), f.instruction_input(k), f.instruction_output(k)
         if op == ca.OP_OUTPUT:
@@ -102,46 +131,145 @@ def _statements(f: ca.Function, ins, offsets):
                 current[r[0]] = f"p{a[1]}"
                 continue
             expr = f"ib{a[0]}[{a[1]} * BLOCK + j]"
+            cheap.add(f"t{k}")
         elif op == ca.OP_CONST:
             expr = repr(float(f.instruction_constant(k)))
+            cheap.add(f"t{k}")
         elif op in _BINARY:
             expr = _BINARY[op].format(*args)
         elif op in _UNARY:
             expr = _UNARY[op].format(*args)
         else:
             raise NotImplementedError(f"{f.name()}: CasADi operation {op} has no C form here")
-        stmts.append((f"t{k}", expr, [x for x in args if x.startswith("t")]))
+        stmts.append((f"t{k}", expr, args))
         current[r[0]] = f"t{k}"
-    return stmts, stores, hoisted
+    return stmts, stores, hoisted, cheap
 
 
-def loop_source(f: ca.Function) -> str:
-    """C source of ``<name>_loop`` for a dense SX function; shared input ``p``."""
+def _layout(f: ca.Function):
+    """Inputs (name, size), output sizes, and each output's offset in the sample's block."""
     ins = [(f.name_in(i), f.nnz_in(i)) for i in range(f.n_in())]
     outs = [f.nnz_out(i) for i in range(f.n_out())]
-    offsets = [sum(outs[:i]) for i in range(len(outs))]
     for o in range(f.n_out()):  # densified zeros are explicit constants, so every entry is set
         if f.sparsity_out(o).nnz() != f.sparsity_out(o).numel():
             raise ValueError(f"{f.name()}: output {o} is sparse; densify before generating loops")
-    stmts, stores, hoisted = _statements(f, ins, offsets)
-    body = [f"      const double {v} = {e};" for v, e, _ in stmts]
-    body += [f"      buf[{o} * BLOCK + j] = {v};" for o, v in stores]
-    decl = [f"  const double *restrict i{j} = in[{j}];" for j in range(len(ins))]
-    decl += [f"  double *restrict o{j} = out[{j}];" for j in range(len(outs))]
-    decl += [hoisted[k] for k in sorted(hoisted)]
+    return ins, outs, [sum(outs[:i]) for i in range(len(outs))]
+
+
+def _copies(ins, outs, offsets):
+    """Each block's copies: inputs into sample-contiguous buffers, outputs back out."""
     per_sample = [(i, size) for i, (name, size) in enumerate(ins) if name != "p"]
-    decl += [f"  double ib{i}[{size} * BLOCK];" for i, size in per_sample]
-    decl += [f"  double buf[{sum(outs)} * BLOCK];"]
     copy_in = [f"    for (j = 0; j < m; ++j)\n"
                f"      for (k = 0; k < {size}; ++k) ib{i}[k * BLOCK + j] = "
                f"i{i}[(s0 + j) * {size} + k];" for i, size in per_sample]
-    loops = copy_in + ["    for (j = 0; j < m; ++j) {\n" + "\n".join(body) + "\n    }"]
     copy_out = [f"    for (j = 0; j < m; ++j)\n"
                 f"      for (k = 0; k < {size}; ++k) o{o}[(s0 + j) * {size} + k] = "
                 f"buf[({offsets[o]} + k) * BLOCK + j];" for o, size in enumerate(outs)]
+    return per_sample, copy_in, copy_out
+
+
+def _io_decl(ins, outs) -> list[str]:
+    return ([f"  const double *restrict i{j} = in[{j}];" for j in range(len(ins))]
+            + [f"  double *restrict o{j} = out[{j}];" for j in range(len(outs))])
+
+
+def loop_parts(f: ca.Function, part_ops: int | None = None) -> list[tuple[str, int]]:
+    """``<name>_loop`` for a dense SX function as C pieces, (source, statements) each, in order.
+
+    A loop of up to ``part_ops`` statements is one piece, as it always was. A longer one is cut
+    into part functions of ``part_ops`` statements, each its own loop over the block's samples
+    (so each still vectorises), called in turn by ``<name>_loop``; a value one part makes and a
+    later one uses goes through ``live``, a sample-contiguous buffer of the block (input loads
+    and constants are redone instead). The parts may sit in different compile units.
+    """
+    part_ops = part_ops or PART_OPS
+    ins, outs, offsets = _layout(f)
+    stmts, stores, hoisted, cheap = _statements(f, ins, offsets)
+    if len(stmts) <= part_ops:
+        return [(_whole(f, ins, outs, offsets, stmts, stores, hoisted), len(stmts))]
+    return _cut(f, ins, outs, offsets, stmts, stores, cheap, part_ops)
+
+
+def _whole(f, ins, outs, offsets, stmts, stores, hoisted) -> str:
+    per_sample, copy_in, copy_out = _copies(ins, outs, offsets)
+    body = [f"      const double {v} = {e};" for v, e, _ in stmts]
+    body += [f"      buf[{o} * BLOCK + j] = {v};" for o, v in stores]
+    decl = _io_decl(ins, outs) + [hoisted[k] for k in sorted(hoisted)]
+    decl += [f"  double ib{i}[{size} * BLOCK];" for i, size in per_sample]
+    decl += [f"  double buf[{sum(outs)} * BLOCK];"]
+    loops = copy_in + ["    for (j = 0; j < m; ++j) {\n" + "\n".join(body) + "\n    }"]
     return (f"/* {f.name()} over n samples: in/out blocks row-major (n, size), p shared */\n"
             f"PLANAR_SYM_EXPORT int {f.name()}_loop(long long n, const double *const *in, "
             "double *const *out) {\n" + "\n".join(decl) + "\n  long long s0, j, k, m;\n"
             "  for (s0 = 0; s0 < n; s0 += BLOCK) {\n"
             "    m = n - s0 < BLOCK ? n - s0 : BLOCK;\n" + "\n".join(loops) + "\n"
             + "\n".join(copy_out) + "\n  }\n  (void)k;\n  return 0;\n}\n")
+
+
+def _cut(f, ins, outs, offsets, stmts, stores, cheap, part_ops):
+    name = f.name()
+    parts = [stmts[c:c + part_ops] for c in range(0, len(stmts), part_ops)]
+    made = {v: k for k, part in enumerate(parts) for v, _, _ in part}
+    expr = {v: e for v, e, _ in stmts}
+    slot: dict[str, int] = {}  # values kept in ``live`` between parts
+    for k, part in enumerate(parts):
+        for _, _, used in part:
+            for u in used:
+                if u in made and made[u] < k and u not in cheap:
+                    slot.setdefault(u, len(slot))
+    stored = {}
+    for o, v in stores:  # an output is stored by the part that makes it (parameters: the first)
+        stored.setdefault(made.get(v, 0), []).append((o, v))
+    p_in = next((i for i, (n, _) in enumerate(ins) if n == "p"), None)
+    per_sample = [i for i, (n, _) in enumerate(ins) if n != "p"]
+    pieces = []
+    for k, part in enumerate(parts):
+        work = [(v, e) for v, e, _ in part if v not in cheap]
+        used = [u for _, _, us in part for u in us]
+        used = list(dict.fromkeys(used + [v for _, v in stored.get(k, [])]))
+        # input loads and constants where used (redone rather than kept), then kept values
+        body = [f"      const double {u} = {expr[u]};" for u in used if u in cheap]
+        body += [f"      const double {u} = live[{slot[u]} * BLOCK + j];"
+                 for u in used if u in slot and made[u] < k]
+        body += [f"      const double {v} = {e};" for v, e in work]
+        body += [f"      live[{slot[v]} * BLOCK + j] = {v};" for v, _ in work if v in slot]
+        body += [f"      buf[{o} * BLOCK + j] = {v};" for o, v in stored.get(k, [])]
+        text = "\n".join(body)
+        decl = [f"  const double *restrict ib{i} = ib[{i}];" for i in per_sample
+                if f"ib{i}[" in text]
+        decl += [f"  const double p{q} = pv[{q}];"
+                 for q in sorted({int(u[1:]) for u in used if u.startswith("p")})]
+        pieces.append((
+            f"/* {name}_loop, part {k + 1} of {len(parts)}: statements {k * part_ops} to "
+            f"{k * part_ops + len(part) - 1} of one block's samples */\n"
+            f"PLANAR_SYM_PART void {name}_part{k}(long long m, const double *const *ib, "
+            "const double *restrict pv, double *restrict live, double *restrict buf) {\n"
+            + "\n".join(decl) + "\n  long long j;\n  (void)ib;\n  (void)pv;\n  (void)live;\n"
+            "  for (j = 0; j < m; ++j) {\n" + text + "\n  }\n}\n", len(part)))
+    _, copy_in, copy_out = _copies(ins, outs, offsets)
+    decl = _io_decl(ins, outs)
+    decl += [f"  double ib{i}[{ins[i][1]} * BLOCK];" for i in per_sample]
+    decl += ["  const double *ib[] = {"
+             + ", ".join(f"ib{i}" if i in per_sample else "0" for i in range(len(ins))) + "};"]
+    decl += [f"  const double *pv = {'0' if p_in is None else f'i{p_in}'};"]
+    # the block's values between parts, and its outputs: on the heap (a big robot's would not
+    # fit a thread's stack)
+    decl += [f"  double *live = malloc(sizeof(double) * {max(len(slot), 1)} * BLOCK);",
+             f"  double *buf = malloc(sizeof(double) * {sum(outs)} * BLOCK);",
+             "  long long s0, j, k, m;",
+             "  if (!live || !buf) {\n    free(live);\n    free(buf);\n    return 1;\n  }"]
+    calls = [f"    {name}_part{k}(m, ib, pv, live, buf);" for k in range(len(parts))]
+    protos = "".join(f"PLANAR_SYM_PART void {name}_part{k}(long long, const double *const *, "
+                     "const double *restrict, double *restrict, double *restrict);\n"
+                     for k in range(len(parts)))
+    driver = (f"/* {name} over n samples: in/out blocks row-major (n, size), p shared; "
+              f"{len(stmts)} statements in {len(parts)} parts */\n" + protos
+              + f"PLANAR_SYM_EXPORT int {name}_loop(long long n, const double *const *in, "
+              "double *const *out) {\n" + "\n".join(decl) + "\n"
+              "  for (s0 = 0; s0 < n; s0 += BLOCK) {\n"
+              "    m = n - s0 < BLOCK ? n - s0 : BLOCK;\n" + "\n".join(copy_in + calls) + "\n"
+              + "\n".join(copy_out) + "\n  }\n  free(live);\n  free(buf);\n  (void)k;\n"
+              "  return 0;\n}\n")
+    # the driver goes with the last part (its unit compiles after the parts it calls: no need,
+    # the linker joins them; it is small either way)
+    return pieces[:-1] + [(pieces[-1][0] + driver, pieces[-1][1])]
