@@ -25,8 +25,9 @@ from derive.codegen import LOOPED
 from planar_sym.model.compile import SIMD_CFLAGS, compile_shared
 
 ROOT = Path(__file__).resolve().parent.parent
-#: a tree with a slider, a closed chain (its loop functions too), the 3-RRR (7 coordinates)
-ROBOTS = ["serial_rpr", "five_bar_type1", "parallel_3rrr"]
+#: a tree with a slider, a closed chain (its loop functions too), the 3-RRR (7 coordinates),
+#: each with the statements per part that cut every one of its loops
+ROBOTS = [("serial_rpr", 23), ("five_bar_type1", 23), ("parallel_3rrr", 60)]
 
 
 def _loops(robot: str):
@@ -61,14 +62,14 @@ def _run(lib, name: str, arrays: list[np.ndarray], outs: list[np.ndarray]) -> No
     assert status == 0
 
 
-@pytest.mark.parametrize("robot", ROBOTS)
-def test_loops_cut_into_small_parts_give_casadi_s_values(robot, tmp_path):
+@pytest.mark.parametrize(("robot", "part_ops"), ROBOTS, ids=[r for r, _ in ROBOTS])
+def test_loops_cut_into_small_parts_give_casadi_s_values(robot, part_ops, tmp_path):
     manifest, fns = _loops(robot)
     p = np.array([par["value"] for par in manifest["parameters"]])
-    pieces = [piece for f in fns.values() for piece in simd.loop_parts(f, part_ops=23)]
-    cut = sum(1 for f in fns.values() if len(simd.loop_parts(f, part_ops=23)) > 1)
-    assert cut == len(fns)  # every loop is cut at 23 statements
-    lib, unit_operations = _build(tmp_path, pieces, unit_ops=60)
+    pieces = [piece for f in fns.values() for piece in simd.loop_parts(f, part_ops=part_ops)]
+    cut = sum(1 for f in fns.values() if len(simd.loop_parts(f, part_ops=part_ops)) > 1)
+    assert cut == len(fns)  # every loop is cut
+    lib, unit_operations = _build(tmp_path, pieces, unit_ops=4 * part_ops)
     assert len(unit_operations) > 3
     rng = np.random.default_rng(3)
     n = 37  # a full block of 32 and a partial one
