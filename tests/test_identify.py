@@ -269,7 +269,10 @@ def test_batch_route_checks_inputs_as_the_general_route():
     assert batch.shape == listed.shape == (6, 2, 16)
     assert np.array_equal(batch, listed)
     one = regressor(robot, q[4], qd[4], qdd[4]).y  # one sample, (n,): still (1, rows, cols)
-    assert one.shape == (1, 2, 16) and np.array_equal(one[0], batch[4])
+    # one sample goes through the exact library, a batch through the vectorised loop (vector
+    # sin and cos, -ffast-math): equal to rounding, bit for bit only on some CPUs (AVX-512)
+    assert one.shape == (1, 2, 16)
+    assert np.abs(one[0] - batch[4]).max() <= 1e-14 * np.abs(batch[4]).max()
     for bad in (np.nan, np.inf):
         qd_bad = qd.copy()
         qd_bad[4, 1] = bad

@@ -93,13 +93,14 @@ def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
         return np.concatenate([2 * x[:nb] + sigma * g[kept],
                                size[dropped] * (g[dropped] - k_mat.T @ g[kept])])
 
-    ineq, eq = [], []  # functions of pi, each scaled to about 1
+    ineq, eq, structural = [], [], []  # functions of pi, each scaled to about 1
     for body in (o.split("_", 1)[1] for o in names if o.startswith("m_")):
         im, ix, iy, io = (names.index(f"{k}_{body}") for k in ("m", "mcx", "mcy", "izo"))
         ineq.append(lambda pi, im=im: pi[im] / m_scale - FLOOR)
         for i, axis in ((ix, "x"), (iy, "y")):
             if f"cg{axis}_{body}" not in par:  # structural: the centre stays on that axis
                 eq.append(lambda pi, i=i: pi[i] / size[i])
+                structural.append(i)
         point_mass = f"izz_{body}" not in par
 
         # m Izz_cg = m I_o - |m c|^2: zero for a point mass, else at least m FLOOR i_scale
@@ -125,6 +126,9 @@ def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
         raise InputError(f"{robot.name}: no physically consistent parameters were found near "
                          f"the estimate ({res.message})")
     pi = standard(res.x)
+    # SLSQP meets the equalities to its tolerance (5e-23 kg*m seen on one CPU, 0 on another):
+    # a first moment the description fixes at zero is zero
+    pi[structural] = 0.0
     active = tuple(n for n, k, v in zip(names, kinds, pi) if k in ("jm", "fv", "fc")
                    and abs(v) <= 1e-9 * max(abs(v0) for v0 in std0.values))
     return PhysicalFit(StandardParameters(names, std0.units, std0.meanings, pi),
