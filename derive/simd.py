@@ -270,6 +270,6 @@ def _cut(f, ins, outs, offsets, stmts, stores, cheap, part_ops):
               "    m = n - s0 < BLOCK ? n - s0 : BLOCK;\n" + "\n".join(copy_in + calls) + "\n"
               + "\n".join(copy_out) + "\n  }\n  free(live);\n  free(buf);\n  (void)k;\n"
               "  return 0;\n}\n")
-    # the driver goes with the last part (its unit compiles after the parts it calls: no need,
-    # the linker joins them; it is small either way)
+    # the driver (small) rides with the last part; the parts it calls may sit in other units,
+    # which the linker joins
     return pieces[:-1] + [(pieces[-1][0] + driver, pieces[-1][1])]
