@@ -32,7 +32,9 @@ def check_controller(robot: Robot, ctl: Controller) -> None:
             ctl.schedule.channels != 2 * n + na + 2 * n * na:
         raise InputError(f"{robot.name}: this time-varying LQR law was designed for another "
                          "robot (make it with planar_sym.tvlqr on this one)")
-    if ctl.kind == "lqr" and ctl.schedule is None and len(ctl.gain) != 2 * n * na:
+    if ctl.kind == "lqr" and ctl.schedule is None and (
+            len(ctl.gain) != 2 * n * na or len(ctl.x_ref) != 2 * n
+            or len(ctl.u_ref) != na):  # the C loop reads 2n and na values from them
         raise InputError(f"{robot.name}: this LQR law was designed for another robot (make "
                          "it with planar_sym.lqr on this one)")
     for k in (ctl.kp, ctl.kd):
