@@ -69,11 +69,11 @@ def motion_by_hand(robot, t, q0, qd0, tau_of):
 #: for a short run. The cart-pole has one actuated coordinate of two (K is 1 x 4), the arm two
 #: of two (K is 2 x 4, row-major: its rows tell a transposed layout apart)
 LAWS = {
-    "cart_pole": dict(gain=(1.5, -4.0, 0.8, -0.6), x_ref=(0.1, 0.05, 0.0, 0.2), u_ref=(0.3,),
-                      q0=(0.0, 0.1), qd0=(0.05, 0.0), input=(-0.1,)),
-    "serial_2dof": dict(gain=(0.8, 0.1, 0.05, 0.01, -0.2, 0.5, 0.02, 0.03),
-                        x_ref=(-1.0, 0.6, 0.1, -0.2), u_ref=(0.2, 0.05),
-                        q0=(-1.1, 0.4), qd0=(0.0, 0.3), input=(0.02, -0.03)),
+    "cart_pole": {"gain": (1.5, -4.0, 0.8, -0.6), "x_ref": (0.1, 0.05, 0.0, 0.2), "u_ref": (0.3,),
+                      "q0": (0.0, 0.1), "qd0": (0.05, 0.0), "input": (-0.1,)},
+    "serial_2dof": {"gain": (0.8, 0.1, 0.05, 0.01, -0.2, 0.5, 0.02, 0.03),
+                        "x_ref": (-1.0, 0.6, 0.1, -0.2), "u_ref": (0.2, 0.05),
+                        "q0": (-1.1, 0.4), "qd0": (0.0, 0.3), "input": (0.02, -0.03)},
 }
 T_LQR = np.linspace(0.0, 0.5, 11)
 
@@ -285,11 +285,11 @@ def test_a_watched_run_is_the_direct_run_argument_for_argument(method):
     from planar_sym.errors import SimulationError
 
     robot = ps.load(TEST_ROBOTS / "actuated_2dof.toml")
-    args = dict(reference=from_table([0.0, 0.3, 1.0], [[0.1, -0.2], [0.97, 0.04], [6.0, 0.6]]),
-                plant=robot.with_parameters(m_link2=0.09), q0=[0.1, -0.2], qd0=[2.9, 0.8],
-                torque=[0.01, 0.0], t_eval=np.linspace(0.0, 0.6, 13),
-                joint_limits={"joint2": (-1.0, -0.15)}, on_joint_limit="continue",
-                on_actuator_limit="stop", method=method, rtol=1e-8, atol=1e-10)
+    args = {"reference": from_table([0.0, 0.3, 1.0], [[0.1, -0.2], [0.97, 0.04], [6.0, 0.6]]),
+                "plant": robot.with_parameters(m_link2=0.09), "q0": [0.1, -0.2], "qd0": [2.9, 0.8],
+                "torque": [0.01, 0.0], "t_eval": np.linspace(0.0, 0.6, 13),
+                "joint_limits": {"joint2": (-1.0, -0.15)}, "on_joint_limit": "continue",
+                "on_actuator_limit": "stop", "method": method, "rtol": 1e-8, "atol": 1e-10}
     law = controller("pd", [8.0, 1.0], [0.1, 0.05])
     heard = []
     runs = [simulate_controlled(robot, law, (0.0, 0.6), **args),
