@@ -341,6 +341,9 @@ def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict
         # <robot>_simd.c compiles as one object per unit (-DPLANAR_SYM_UNIT=k), in parallel;
         # each unit's operations show how the loops were shared out
         "compile_units": {"simd": unit_operations},
+        # the loops find non-finite inputs as they copy them in (simd.NONFINITE): callers
+        # need no pass of their own (a folder derived before lacks this, and is scanned)
+        "loops_check_inputs": True,
         "functions": funcs,
         "files": {k: hashlib.sha256(v).hexdigest() for k, v in sorted(files.items())},
     }

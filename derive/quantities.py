@@ -10,14 +10,16 @@ with fewer operations.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import casadi as ca
 
 from planar_sym.model.description import Description
 
+from . import block_triangular
+from .articulated import Articulated
 from .factor import solve_spd
-from .recursion import Symbols
+from .recursion import Symbols, walk
 
 CLOSED, AD = "closed form", "algorithmic differentiation"
 
@@ -125,20 +127,31 @@ def functions(qs: Quantities) -> list[Generated]:
 def _forward(fn, qs: Quantities) -> list[Generated]:
     """qdd = M^-1 (tau - h), and its Jacobian from the inverse dynamics' own:
     ``d qdd/dx = -M^-1 d(ID)/dx`` at ``qdd`` (x = q, qd), one factorisation for all 2n
-    columns instead of differentiating through the solve (O(n^3), not O(n^4))."""
+    columns instead of differentiating through the solve (O(n^3), not O(n^4)).
+
+    ``M^-1`` two ways, kept per function where it has fewer operations: ``L D L^T`` of ``M``
+    (small robots: a 2 x 2 solve is a handful of products) and the articulated-body recursion
+    (``articulated.py``: O(n) per column, ahead from about four links of a chain)."""
     s = qs.sym
     q, qd, tau, p = s.q, s.qd, s.tau, s.p
-    qdd = solve_spd(qs.mass_matrix, tau - qs.bias)
+    n = q.shape[0]
+    articulated = Articulated(qs.desc, walk(qs.desc, s))
     partial = ca.horzcat(ca.jacobian(qs.inverse_dynamics, q),
                          ca.jacobian(qs.inverse_dynamics, qd))
-    partial = ca.substitute(partial, s.qdd, qdd)
-    both = -solve_spd(qs.mass_matrix, partial)
-    n = q.shape[0]
-    return [fn("forward_dynamics", [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
-               [("qdd", qdd)], "forward dynamics qdd = M^-1 (tau - h)"),
-            fn("forward_dynamics_jacobian", [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
-               [("dqdd_dq", both[:, :n]), ("dqdd_dqd", both[:, n:])],
-               "Jacobian of the forward dynamics, for implicit integrators")]
+    forward, jacobian = [], []
+    for solve, how in ((lambda b: solve_spd(qs.mass_matrix, b), ""),
+                       (articulated.solve, ", M^-1 by articulated bodies")):
+        qdd = solve(tau - qs.bias)
+        both = -solve(ca.substitute(partial, s.qdd, qdd))
+        forward.append(fn("forward_dynamics", [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
+                          [("qdd", qdd)], "forward dynamics qdd = M^-1 (tau - h)"))
+        jacobian.append(fn("forward_dynamics_jacobian",
+                           [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
+                           [("dqdd_dq", both[:, :n]), ("dqdd_dqd", both[:, n:])],
+                           "Jacobian of the forward dynamics, for implicit integrators"))
+        forward[-1], jacobian[-1] = (replace(g, route=g.route + how)
+                                     for g in (forward[-1], jacobian[-1]))
+    return [min(forward, key=_operations), min(jacobian, key=_operations)]  # LDL on a tie
 
 
 def _closed_inverse_dynamics(fn, qs: Quantities) -> Generated:
@@ -156,7 +169,7 @@ def _closed_inverse_dynamics(fn, qs: Quantities) -> Generated:
     pas = [i for i in range(s.q.shape[0]) if i not in act]
     b, jac = qs.inverse_dynamics, qs.phi_q
     pt = jac[:, pas].T
-    inv = ca.inv(pt)  # m is small here: explicit, and the condition number needs it anyway
+    inv = block_triangular.inverse(pt)  # explicit: the condition number needs it anyway
     lam = ca.mtimes(inv, b[pas])
     tau = b[act] - ca.mtimes(jac[:, act].T, lam)
 
@@ -170,6 +183,10 @@ def _closed_inverse_dynamics(fn, qs: Quantities) -> Generated:
               "closed-chain torques tau (actuated), cut-joint forces lambda and the 1-norm "
               "condition number of Phi_p, from M qdd + h = S^T tau + Phi_q^T lambda; and the "
               "loop residuals Phi (m), Phi_q qd (m/s), Phi_q qdd - gamma (m/s^2)")
+
+
+def _operations(g: Generated) -> int:
+    return g.operations
 
 
 def choose(*routes: list[Generated]) -> list[Generated]:

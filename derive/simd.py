@@ -17,13 +17,17 @@ Two details make or break that vectorisation:
   only in groups of 2^k or 3 per sample, so the 3-RRR's 7 coordinates (and its 7x7 mass
   matrix) would otherwise keep its loops scalar;
 * parameters are read into locals before the loop;
+* the inputs are checked while they are copied in (``NONFINITE``), not in a pass of their own:
+  for a small robot a second pass over the inputs costs about as much as the dynamics;
 * no function grows with the robot: a loop longer than ``PART_OPS`` statements is cut into
   part functions (each its own vectorised loop over the block), because gcc's time and memory
   on one function grow faster than its length; the pieces are shared out into compile units
   of ``UNIT_OPS`` statements, compiled in parallel.
 
 Every loop has one signature, so the runtime can call any of them the same way:
-``int <robot>_<quantity>_loop(long long n, const double *const *in, double *const *out)``.
+``int <robot>_<quantity>_loop(long long n, const double *const *in, double *const *out)``,
+returning 0, or ``NONFINITE`` for an input that is not finite (the caller names it), or 1 where
+a cut loop's buffers could not be allocated.
 """
 
 from __future__ import annotations
@@ -40,7 +44,9 @@ _UNARY = {ca.OP_NEG: "(-{})", ca.OP_SIN: "sin({})", ca.OP_COS: "sin({} + M_PI_2)
           ca.OP_TANH: "tanh({})"}
 
 PRELUDE = """#include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 /* compile units: built whole, or as units compiled in parallel, one per -DPLANAR_SYM_UNIT=k
    (the manifest's compile_units), each holding some of the loops */
 #ifdef PLANAR_SYM_UNIT
@@ -65,7 +71,19 @@ PRELUDE = """#include <math.h>
 #else
 #define PLANAR_SYM_PART __attribute__((visibility("hidden")))
 #endif
+/* 1 where x is infinite or NaN. The loops check their inputs while copying them in (a second
+   pass over the inputs costs about as much as a small robot's dynamics); a test of the exponent
+   bits, because -ffast-math assumes finite values and may fold x != x or isfinite away */
+static inline int planar_sym_nonfinite(double x) {
+  uint64_t b;
+  memcpy(&b, &x, sizeof b);
+  return (b & 0x7ff0000000000000ULL) == 0x7ff0000000000000ULL;
+}
 """
+
+#: what a loop returns: 0 done, 1 out of memory, 2 an input sample not finite (found in the copy
+#: of a block, before anything of that block is computed; the caller scans for it to name it)
+NONFINITE = 2
 
 
 #: operations per compile unit: gcc's time and memory grow faster than the length of one
@@ -80,22 +98,24 @@ UNIT_OPS = 3000
 PART_OPS = 1500
 
 
-def units(operations: list[int]) -> list[int]:
-    """The compile unit of each piece, in file order: a new unit once ``UNIT_OPS`` is full (a
-    robot whose loops all fit in one compiles as one unit, as before)."""
+def units(operations: list[int], unit_ops: int | None = None) -> list[int]:
+    """The compile unit of each piece, in file order: a new unit once ``unit_ops`` (default
+    ``UNIT_OPS``) is full (a robot whose loops all fit in one compiles as one unit, as before)."""
+    unit_ops = unit_ops or UNIT_OPS
     out, unit, filled = [], 0, 0
     for ops in operations:
-        if filled and filled + ops > UNIT_OPS:
+        if filled and filled + ops > unit_ops:
             unit, filled = unit + 1, 0
         out.append(unit)
         filled += ops
     return out
 
 
-def assemble(pieces: list[tuple[str, int]], first: str = "") -> tuple[str, list[int]]:
+def assemble(pieces: list[tuple[str, int]], first: str = "",
+             unit_ops: int | None = None) -> tuple[str, list[int]]:
     """The loops' file after ``PRELUDE`` (``first``, if given, in unit 0), and each compile
     unit's statements: pieces (``loop_parts``) shared out in order by ``units``."""
-    where = units([ops for _, ops in pieces])
+    where = units([ops for _, ops in pieces], unit_ops)
     ops = [sum(n for (_, n), u in zip(pieces, where) if u == k)
            for k in range(max(where, default=-1) + 1)]
     body = ((in_unit(0, first) if first else "")
@@ -157,11 +177,15 @@ def _layout(f: ca.Function):
 
 
 def _copies(ins, outs, offsets):
-    """Each block's copies: inputs into sample-contiguous buffers, outputs back out."""
+    """Each block's copies: inputs into sample-contiguous buffers (noting any value that is not
+    finite in ``bad``), outputs back out."""
     per_sample = [(i, size) for i, (name, size) in enumerate(ins) if name != "p"]
     copy_in = [f"    for (j = 0; j < m; ++j)\n"
-               f"      for (k = 0; k < {size}; ++k) ib{i}[k * BLOCK + j] = "
-               f"i{i}[(s0 + j) * {size} + k];" for i, size in per_sample]
+               f"      for (k = 0; k < {size}; ++k) {{\n"
+               f"        const double x = i{i}[(s0 + j) * {size} + k];\n"
+               f"        ib{i}[k * BLOCK + j] = x;\n"
+               f"        bad |= planar_sym_nonfinite(x);\n"
+               "      }" for i, size in per_sample]
     copy_out = [f"    for (j = 0; j < m; ++j)\n"
                 f"      for (k = 0; k < {size}; ++k) o{o}[(s0 + j) * {size} + k] = "
                 f"buf[({offsets[o]} + k) * BLOCK + j];" for o, size in enumerate(outs)]
@@ -197,10 +221,12 @@ def _whole(f, ins, outs, offsets, stmts, stores, hoisted) -> str:
     decl = _io_decl(ins, outs) + [hoisted[k] for k in sorted(hoisted)]
     decl += [f"  double ib{i}[{size} * BLOCK];" for i, size in per_sample]
     decl += [f"  double buf[{sum(outs)} * BLOCK];"]
-    loops = copy_in + ["    for (j = 0; j < m; ++j) {\n" + "\n".join(body) + "\n    }"]
+    loops = copy_in + [f"    if (bad) return {NONFINITE};",
+                       "    for (j = 0; j < m; ++j) {\n" + "\n".join(body) + "\n    }"]
     return (f"/* {f.name()} over n samples: in/out blocks row-major (n, size), p shared */\n"
             f"PLANAR_SYM_EXPORT int {f.name()}_loop(long long n, const double *const *in, "
             "double *const *out) {\n" + "\n".join(decl) + "\n  long long s0, j, k, m;\n"
+            "  int bad = 0;\n"
             "  for (s0 = 0; s0 < n; s0 += BLOCK) {\n"
             "    m = n - s0 < BLOCK ? n - s0 : BLOCK;\n" + "\n".join(loops) + "\n"
             + "\n".join(copy_out) + "\n  }\n  (void)k;\n  return 0;\n}\n")
@@ -257,8 +283,11 @@ def _cut(f, ins, outs, offsets, stmts, stores, cheap, part_ops):
     decl += [f"  double *live = malloc(sizeof(double) * {max(len(slot), 1)} * BLOCK);",
              f"  double *buf = malloc(sizeof(double) * {sum(outs)} * BLOCK);",
              "  long long s0, j, k, m;",
+             "  int bad = 0;",
              "  if (!live || !buf) {\n    free(live);\n    free(buf);\n    return 1;\n  }"]
     calls = [f"    {name}_part{k}(m, ib, pv, live, buf);" for k in range(len(parts))]
+    stop = ("    if (bad) {\n      free(live);\n      free(buf);\n"
+            f"      return {NONFINITE};\n    }}")
     protos = "".join(f"PLANAR_SYM_PART void {name}_part{k}(long long, const double *const *, "
                      "const double *restrict, double *restrict, double *restrict);\n"
                      for k in range(len(parts)))
@@ -267,7 +296,8 @@ def _cut(f, ins, outs, offsets, stmts, stores, cheap, part_ops):
               + f"PLANAR_SYM_EXPORT int {name}_loop(long long n, const double *const *in, "
               "double *const *out) {\n" + "\n".join(decl) + "\n"
               "  for (s0 = 0; s0 < n; s0 += BLOCK) {\n"
-              "    m = n - s0 < BLOCK ? n - s0 : BLOCK;\n" + "\n".join(copy_in + calls) + "\n"
+              "    m = n - s0 < BLOCK ? n - s0 : BLOCK;\n"
+              + "\n".join(copy_in + [stop] + calls) + "\n"
               + "\n".join(copy_out) + "\n  }\n  free(live);\n  free(buf);\n  (void)k;\n"
               "  return 0;\n}\n")
     # the driver (small) rides with the last part; the parts it calls may sit in other units,

@@ -15,8 +15,15 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import (ALL_ROBOTS, BUILTIN_ROBOTS, CLOSED, ROBOTS_DIR, ROOT, seed_studies,
-                      serial_2dof_in_cm)
+from conftest import (
+    ALL_ROBOTS,
+    BUILTIN_ROBOTS,
+    CLOSED,
+    ROBOTS_DIR,
+    ROOT,
+    seed_studies,
+    serial_2dof_in_cm,
+)
 from PIL import Image
 
 import planar_sym as ps

@@ -163,7 +163,7 @@ def test_the_generated_functions_are_listed_with_their_cost(chains, reports):
         ops = _operations(desc)
         block = r["text"].split("Generated functions (operations per sample, route):\n")[1]
         for quantity, (n, route) in ops.items():
-            assert re.search(rf"^  {quantity} +{n}  {route}$", block, re.MULTILINE), quantity
+            assert re.search(rf"^  {quantity} +{n}  {re.escape(route)}$", block, re.MULTILINE), quantity
             assert f"| `{quantity}` | {n} | {route} |" in r["markdown"]
     assert "closed_inverse_dynamics" in reports["six_bar_watt"][1]["text"]
 

@@ -40,12 +40,7 @@ def _loops(robot: str):
 
 def _build(tmp_path: Path, pieces, unit_ops: int) -> ctypes.CDLL:
     """The pieces compiled the runtime's way: one object per compile unit, linked."""
-    old = simd.UNIT_OPS
-    simd.UNIT_OPS = unit_ops
-    try:
-        source, unit_operations = simd.assemble(pieces)
-    finally:
-        simd.UNIT_OPS = old
+    source, unit_operations = simd.assemble(pieces, unit_ops=unit_ops)
     src = tmp_path / "loops.c"
     src.write_text(source)
     lib = compile_shared([src], tmp_path / "loops.so", SIMD_CFLAGS, extra=("-Wall", "-Werror"),

@@ -148,7 +148,7 @@ def test_the_schedule_between_samples(cart_pole, swing):
     exactly the design's; after the end the hold's."""
     from scipy.interpolate import CubicHermiteSpline
 
-    move, design = swing
+    move, _design = swing
     jt = move.trajectory
     t = jt.t_s  # a wave sin^2(pi t / 2) that starts and ends at rest
     wave = np.sin(np.pi * t / 2)[:, None] ** 2 * [0.01, 0.02]

@@ -38,7 +38,11 @@ typedef struct {
     PyObject *error;               /* exception class for bad input */
     PyObject *names;               /* tuple of input names, for messages */
     PyObject *doc;
+    int checked;                   /* the loop reports a non-finite input itself (returns 2) */
 } Caller;
+
+/* what a loop returns for an input that is not finite (derive/simd.py NONFINITE) */
+#define LOOP_NONFINITE 2
 
 static void caller_dealloc(Caller *self) {
     Py_XDECREF(self->p);
@@ -147,8 +151,9 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                          PyTuple_GET_ITEM(self->names, i), (Py_ssize_t)rows);
             goto done;
         }
-        if (check_finite(self, PyTuple_GET_ITEM(self->names, i), PyArray_DATA(arr[i]), n,
-                         self->in_size[i], "sample", 0))
+        if (!self->checked && check_finite(self, PyTuple_GET_ITEM(self->names, i),
+                                           PyArray_DATA(arr[i]), n, self->in_size[i],
+                                           "sample", 0))
             goto done;
     }
     for (i = 0, j = 0; j < self->n_in + 1; ++j)
@@ -179,6 +184,12 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
         Py_END_ALLOW_THREADS
     } else {
         status = self->fn((long long)n, in, out);
+    }
+    if (status == LOOP_NONFINITE && self->checked) {  /* find and name it, as the pass would */
+        for (i = 0; i < self->n_in; ++i)
+            if (check_finite(self, PyTuple_GET_ITEM(self->names, i), PyArray_DATA(arr[i]), n,
+                             self->in_size[i], "sample", 0))
+                goto done;
     }
     if (status) {
         PyErr_SetString(PyExc_RuntimeError, "generated function failed");
@@ -402,14 +413,17 @@ static PyTypeObject CallerType = {
     .tp_methods = caller_methods,
 };
 
-/* make(address, in_sizes, p_slot, out_specs ((rows, cols, kind), ...), p, error, names, doc) */
+/* make(address, in_sizes, p_slot, out_specs ((rows, cols, kind), ...), p, error, names, doc,
+ *      checked=False): with ``checked`` the loop finds non-finite inputs itself */
 static PyObject *make(PyObject *mod, PyObject *args) {
     unsigned long long address;
     PyObject *in_sizes, *out_specs, *p, *error, *names, *doc;
     int p_slot;
     (void)mod;
-    if (!PyArg_ParseTuple(args, "KO!iO!OOO!O", &address, &PyTuple_Type, &in_sizes, &p_slot,
-                          &PyTuple_Type, &out_specs, &p, &error, &PyTuple_Type, &names, &doc))
+    int checked = 0;
+    if (!PyArg_ParseTuple(args, "KO!iO!OOO!O|p", &address, &PyTuple_Type, &in_sizes, &p_slot,
+                          &PyTuple_Type, &out_specs, &p, &error, &PyTuple_Type, &names, &doc,
+                          &checked))
         return NULL;
     if (PyTuple_GET_SIZE(in_sizes) > MAX_IO || PyTuple_GET_SIZE(out_specs) > MAX_IO) {
         PyErr_SetString(PyExc_ValueError, "too many inputs or outputs");
@@ -419,6 +433,7 @@ static PyObject *make(PyObject *mod, PyObject *args) {
     if (!self) return NULL;
     self->vectorcall = (vectorcallfunc)caller_call;
     self->fn = (loop_fn)(uintptr_t)address;
+    self->checked = checked;
     self->n_in = (int)PyTuple_GET_SIZE(in_sizes);
     for (int i = 0; i < self->n_in; ++i) self->in_size[i] = PyLong_AsSsize_t(PyTuple_GET_ITEM(in_sizes, i));
     self->p_slot = p_slot;

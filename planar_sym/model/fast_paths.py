@@ -25,8 +25,10 @@ def bind_fast_paths(robot) -> None:
         return
     recipes = _recipes(robot.library, type(robot), robot.is_closed_chain,
                        len(robot.actuated) == robot.n)
+    checked = _loops_check_inputs(robot.library)
     for attr, (address, sizes, p_slot, outputs, names, doc) in recipes:
-        caller = fast.make(address, sizes, p_slot, outputs, robot.p, InputError, names, doc)
+        caller = fast.make(address, sizes, p_slot, outputs, robot.p, InputError, names, doc,
+                           checked)
         setattr(robot, attr, caller)  # instance attribute: no Python frame per call
 
 
@@ -80,4 +82,10 @@ def loop_caller(robot, quantity: str, doc: str = ""):
                      [name for name, _ in ins].index("p"),
                      tuple((rows, cols, _KINDS[kind]) for _, rows, cols, kind in spec["outputs"]),
                      robot.p, InputError, tuple(name for name, _ in ins if name != "p"),
-                     doc or spec["doc"])
+                     doc or spec["doc"], _loops_check_inputs(robot.library))
+
+
+def _loops_check_inputs(library) -> bool:
+    """Whether the library's loops report a non-finite input themselves (derived since they
+    do): the caller then skips its own pass over the inputs."""
+    return bool(library.manifest.get("loops_check_inputs", False))
