@@ -40,7 +40,7 @@ HASHED_SOURCES = tuple(sorted(
 #: how the runtime shapes each output per sample: scalar (), vector (rows,), matrix (rows, cols);
 #: a 1-joint robot's 1x1 mass matrix must still come back as a matrix
 OUTPUT_KIND = {"kinetic": "scalar", "potential": "scalar", "cond": "scalar", "M": "matrix",
-               "J": "matrix", "Y": "matrix", "Y_lambda": "matrix",
+               "J": "matrix", "Y": "matrix", "Y_lambda": "matrix", "dF_dq": "matrix",
                "phi_q": "matrix", "frames": "matrix", "dqdd_dq": "matrix", "dqdd_dqd": "matrix",
                "accelerations": "matrix", "cg": "matrix", "joint_points": "matrix"}
 

@@ -59,7 +59,7 @@ def test_loader_builds_the_entry_point(monkeypatch, arm):
     assert fn.__name__ == "planar_sym_ik_newton"
     assert fn.restype is ctypes.c_int
     i, p = ctypes.c_int, ctypes.c_void_p
-    assert tuple(fn.argtypes) == (i, i, i, p, p, p, p, ctypes.c_longlong, p, p, p, p, p, p, p)
+    assert tuple(fn.argtypes) == (i, i, i, p, p, p, p, p, ctypes.c_longlong, p, p, p, p, p, p, p)
     assert newton._newton() is fn
     t = np.linspace(0.0, 1.0, 5)
     x = fk2(Q0 + np.outer(t, [0.2, -0.3]))
@@ -138,7 +138,9 @@ def _toy(law, q_drawn=1.0, name="toy"):
     address = ctypes.cast(task, ctypes.c_void_p).value
     return SimpleNamespace(name=name, n=1, n_constraints=0, task_names=("x",), actuated=(0,),
                            is_closed_chain=False, q_drawn=np.array([q_drawn]), p=np.zeros(1),
-                           library=SimpleNamespace(address=lambda _name: address), task=py_task,
+                           library=SimpleNamespace(address=lambda _name: address,
+                                                   manifest={"functions": {}}),  # no ik_terms
+                           task=py_task,
                            keep=task)
 
 
@@ -197,7 +199,8 @@ def test_too_many_coordinates_is_raised():
                             task_names=tuple(f"x{k}" for k in range(n)),
                             actuated=tuple(range(n)), is_closed_chain=False,
                             q_drawn=np.ones(n), p=np.zeros(1),
-                            library=SimpleNamespace(address=lambda _name: None), task=task)
+                            library=SimpleNamespace(address=lambda _name: None,
+                                                    manifest={"functions": {}}), task=task)
     with pytest.raises(WorkspaceError) as exc:
         newton.solve(robot, np.array([0.0]), np.ones((1, n)))
     assert str(exc.value) == ("big: generic inverse kinematics failed at sample -1: too many "

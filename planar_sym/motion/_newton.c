@@ -7,6 +7,11 @@
  *   constraint(n, q, p, phi)              phi (m)            (closed chains only)
  *   constraint_jacobian(n, q, p, phi_q)   phi_q (m x n, column-major)
  *
+ * or, where the robot was derived with it, all in one call that computes every sine once:
+ *
+ *   ik_terms(n, q, p, F, dF_dq)           F = [phi; x] (n), dF_dq = [phi_q; J] (n x n,
+ *                                         column-major)
+ *
  * The system is square (m + nt = n; checked by the caller) and solved by Gaussian elimination
  * with partial pivoting. Continuation keeps the working and assembly modes of the start pose:
  * sample 0 is reached from the start pose, sample k + 1 from sample k, each along the straight
@@ -31,6 +36,7 @@
 typedef int (*task_fn)(long long, const double *, const double *, const double *, double *,
                        double *, double *);
 typedef int (*phi_fn)(long long, const double *, const double *, double *);
+typedef int (*terms_fn)(long long, const double *, const double *, double *, double *);
 
 enum { OK = 0, NO_CONVERGENCE = 1, SINGULAR = 2, FUNCTION_FAILED = 3, TOO_LARGE = 4,
        CROSSED = 5 };
@@ -40,6 +46,7 @@ typedef struct {
     const double *p;
     task_fn task;
     phi_fn phi, phiq;
+    terms_fn terms;  /* the fused call, or NULL: task, phi and phiq one by one */
     double tol, dq_max, theta, min_fraction, step_tol;
     int max_iter;
     int sign;  /* of det [Phi_q; J] at the start pose: the branch to stay on */
@@ -108,11 +115,18 @@ static double norm_inf(int k, const double *v) {
     return s;
 }
 
-/* F = [phi; x - target], and J (nt x n, column-major) from the same task call. */
+/* F = [phi; x - target], and J from the same call: J (nt x n, column-major) of the task, or
+ * with the fused call the whole [phi_q; J] (n x n, column-major). */
 static int residual(Problem *pr, const double *q, const double *target, double *F, double *J) {
     int m = pr->m, nt = pr->nt;
     double zero[MAXN] = {0}, x[MAXN], jd[MAXN];
     pr->evaluations++;
+    if (pr->terms) {
+        if (pr->terms(1, q, pr->p, F, J)) return FUNCTION_FAILED;
+        for (int i = 0; i < nt; ++i) F[m + i] -= target[i];
+        pr->residual = norm_inf(pr->n, F);
+        return OK;
+    }
     if (pr->task(1, q, zero, pr->p, x, J, jd)) return FUNCTION_FAILED;
     if (m && pr->phi(1, q, pr->p, F)) return FUNCTION_FAILED;
     for (int i = 0; i < nt; ++i) F[m + i] = x[i] - target[i];
@@ -124,6 +138,11 @@ static int residual(Problem *pr, const double *q, const double *target, double *
 static int jacobian(Problem *pr, const double *q, const double *J, double *A) {
     int n = pr->n, m = pr->m, nt = pr->nt;
     double pq[MAXN * MAXN];
+    if (pr->terms) {  /* J holds the whole [phi_q; J] already */
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) A[i * n + j] = J[j * n + i];
+        return OK;
+    }
     if (m && pr->phiq(1, q, pr->p, pq)) return FUNCTION_FAILED;
     for (int i = 0; i < m; ++i)
         for (int j = 0; j < n; ++j) A[i * n + j] = pq[j * m + i];  /* CasADi: column-major */
@@ -237,17 +256,17 @@ static void predict(int n, long long k, const double *t, const double *q, const 
  * info: [|F|_inf at the closest pose to the failing sample's target, fraction of the last
  *        step solved, Newton iterations, F evaluations, step halvings]. */
 int planar_sym_ik_newton(int n, int m, int nt, const double *p, void *task, void *phi,
-                         void *phiq, long long N, const double *t, const double *x,
+                         void *phiq, void *terms, long long N, const double *t, const double *x,
                          const double *q_start, const double *opts, double *q_out,
                          long long *k_fail, double *info) {
-    Problem pr = {n, m, nt, p, (task_fn)task, (phi_fn)phi, (phi_fn)phiq, opts[0], opts[1],
-                  opts[2], opts[4], opts[5], (int)opts[3], 1, 0, 0, 0, 0.0};
+    Problem pr = {n, m, nt, p, (task_fn)task, (phi_fn)phi, (phi_fn)phiq, (terms_fn)terms,
+                  opts[0], opts[1], opts[2], opts[4], opts[5], (int)opts[3], 1, 0, 0, 0, 0.0};
     double q[MAXN], pred[MAXN], F[MAXN], J[MAXN * MAXN], A[MAXN * MAXN], xs[MAXN];
     double reached = 1.0;
     int rc = OK;
     *k_fail = -1;
     memset(info, 0, 5 * sizeof(double));
-    if (n > MAXN || m + nt != n || (m && (!phi || !phiq))) return TOO_LARGE;
+    if (n > MAXN || m + nt != n || (m && !terms && (!phi || !phiq))) return TOO_LARGE;
     memcpy(q, q_start, sizeof(double) * n);
     /* the start pose's own task coordinates: sample 0 is reached from there */
     *k_fail = 0;

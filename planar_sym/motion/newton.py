@@ -172,9 +172,13 @@ def solve(robot: Robot, t: np.ndarray, x: np.ndarray, q_start=None) -> NewtonRun
     q = np.full((N, n), np.nan)
     info = np.zeros(5)
     k_fail = ctypes.c_longlong(-1)
+    # one call for F and dF/dq where the robot was derived with it (shared sines: the 3-RRR's
+    # Newton step costs about a third less), else task, Phi and Phi_q one by one
+    fused = "ik_terms" in lib.manifest["functions"]
     rc = _newton()(n, m, nt, robot.p.ctypes.data, lib.address("task"),
                    lib.address("constraint") if m else None,
-                   lib.address("constraint_jacobian") if m else None, N, t.ctypes.data,
+                   lib.address("constraint_jacobian") if m else None,
+                   lib.address("ik_terms") if fused else None, N, t.ctypes.data,
                    x.ctypes.data, q0.ctypes.data, opts.ctypes.data, q.ctypes.data,
                    ctypes.byref(k_fail), info.ctypes.data)
     if rc not in (0, 1, 2, 5):
@@ -254,8 +258,8 @@ def _newton():
     if _NEWTON is None:
         fn = load_helper(Path(__file__).resolve().parent / "_newton.c").planar_sym_ik_newton
         i, ptr = ctypes.c_int, ctypes.c_void_p
-        fn.argtypes = [i, i, i, ptr, ptr, ptr, ptr, ctypes.c_longlong, ptr, ptr, ptr, ptr, ptr,
-                       ptr, ptr]
+        fn.argtypes = [i, i, i, ptr, ptr, ptr, ptr, ptr, ctypes.c_longlong, ptr, ptr, ptr, ptr,
+                       ptr, ptr, ptr]
         fn.restype = i
         _NEWTON = fn
     return _NEWTON
