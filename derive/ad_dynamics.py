@@ -10,12 +10,15 @@ would by hand but without expanding anything:
     T = sum_b 1/2 (m_b |v_cg,b|^2 + Izz_b w_b^2) + rotors,   v = (dr/dq) qd   (forward mode)
     V = -sum_b m_b g (u . r_cg,b)
     p = dT/dqd                                               (reverse mode)
-    tau = dp/dq qd + dp/dqd qdd - dT/dq + dV/dq + D(qd)      (forward over reverse)
-    M = dp/dqd (summed by composite bodies, composite.py),   h = tau at qdd = 0,   g = dV/dq
+    M = dp/dqd (summed by composite bodies, composite.py),   g = dV/dq
+    tau = dp/dq qd + dp/dqd qdd - dT/dq + dV/dq + D(qd)      (by Newton-Euler, newton_euler.py)
+    h = tau at qdd = 0
 
-Each sweep costs a fixed multiple of evaluating ``T``, which the recursion makes O(n): the
-inverse dynamics is O(n) operations like Newton-Euler, ``M`` O(n^2). Loop closure likewise:
-``Phi`` from the tree, ``Phi_q`` its Jacobian, ``gamma = -(Phi_q qd)_q qd`` two forward sweeps.
+Each sweep costs a fixed multiple of evaluating ``T``, which the recursion makes O(n); the
+inverse dynamics is O(n) operations, ``M`` O(n^2). The torques themselves come from Newton-Euler
+over the same frames, which needs half the operations of the forward sweep over the reverse one
+(``tests/test_newton_euler.py`` checks the two agree). Loop closure likewise: ``Phi`` from the
+tree, ``Phi_q`` its Jacobian, ``gamma = -(Phi_q qd)_q qd`` two forward sweeps.
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ import casadi as ca
 
 from planar_sym.model.description import COULOMB_SMOOTHING, GROUND, Description
 
+from . import newton_euler
 from .composite import mass_matrix
 from .quantities import AD, Quantities
 from .recursion import Symbols, Tree, walk
@@ -44,7 +48,7 @@ class Dynamics:
     mass_matrix: ca.SX
     bias: ca.SX  # h(q, qd) = C qd + g + D
     gravity: ca.SX
-    inverse_dynamics: ca.SX  # M qdd + h, by forward over reverse
+    inverse_dynamics: ca.SX  # M qdd + h, by Newton-Euler
     body_names: tuple[str, ...]
     poses: ca.SX  # every body's cg x, y (m) and angle (rad), stacked body by body
     pose_rates: ca.SX  # their time derivatives (one forward sweep)
@@ -86,13 +90,13 @@ def derive(desc: Description) -> Dynamics:
         potential += -m * s.param("g") * (ux * poses[3 * k] + uy * poses[3 * k + 1])
     kinetic += _rotors(desc, tree, dict(zip(names, (rates[3 * k + 2] for k in range(len(names))))))
     momentum = ca.gradient(kinetic, s.qd)
-    dT_dq = ca.gradient(kinetic, s.q)
     gravity = ca.gradient(potential, s.q)
     friction = _friction(desc, s)
-    # dp/dt along (qd, qdd), and along (qd, 0) for h: forward sweeps over the reverse one
-    bias = ca.jtimes(momentum, s.q, s.qd) - dT_dq + gravity + friction
-    inverse = (ca.jtimes(momentum, ca.vertcat(s.q, s.qd), ca.vertcat(s.qd, s.qdd))
-               - dT_dq + gravity + friction)
+    # tau and h = tau at qdd = 0 by Newton-Euler (newton_euler.py): half the operations of
+    # dp/dt - dT/dq + dV/dq by forward sweeps over the reverse one, which it equals to 1e-15
+    g = s.param("g") * ca.vertcat(ux, uy)
+    inverse = newton_euler.inverse_dynamics(desc, tree, g, friction, s.qd, s.qdd)
+    bias = newton_euler.inverse_dynamics(desc, tree, g, friction, s.qd, ca.SX.zeros(s.qd.shape))
     mass = mass_matrix(desc, tree)  # composite bodies: a third of dp/dqd's operations
     return Dynamics(desc, s, tree, kinetic, potential, momentum, mass, bias, gravity, inverse,
                     names, poses, rates)

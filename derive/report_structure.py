@@ -165,16 +165,20 @@ def _dynamics(desc: Description, nm: Names, friction: bool) -> Part:
         m("p = dT/dqd", r"p = \partial T/\partial \dot q"), " and ",
         m("dT/dq", r"\partial T/\partial q"), " by reverse mode (one gradient sweep); ",
         m("d/dt p", r"\tfrac{d}{dt} p"), " along ", m("(qd, qdd)", r"(\dot q, \ddot q)"),
-        (" by one forward sweep over that reverse sweep (forward over reverse). Each sweep "
-         "costs a fixed multiple of evaluating T, so the inverse dynamics is O(n) operations, "
-         "like Newton-Euler; "),
+        (" would take one forward sweep over that reverse sweep (forward over reverse); the "
+         "code computes the same torques by Newton-Euler over the recursion's frames instead "
+         "(derive/newton_euler.py: each body's angular and point accelerations from the "
+         "ground out, then forces and moments from the leaves in, rotors and friction "
+         "included; O(n) operations, half those of the sweeps); "),
         m("M = dp/dqd", r"M = \partial p/\partial \dot q"), ", the Hessian of T in ",
         m("qd", r"\dot q"), (", is summed by composite bodies instead (derive/composite.py: "
                               "each joint's subtree once, O(n) sums, then one dot product "
                               "an entry, O(n^2); about a third of the operations of n "
                               "sweeps).")
-        + ("" if closed else " The forward dynamics solves the linear system M qdd = "
-           "tau - h (O(n^3), small for these sizes).")))
+        + ("" if closed else " The forward dynamics solves M qdd = tau - h by L D L^T "
+           "(O(n^3), small for a few links) or, where it takes fewer operations (from about "
+           "four links), by the articulated-body recursion (derive/articulated.py, O(n)), "
+           "as the manifest's route says.")))
     return part
 
 

@@ -142,6 +142,19 @@ def test_task_and_frames(case, worst_errors):
     _check(worst_errors, f"sympy frames {name}", robot.frames(q), ref("frames", p, q))
 
 
+def test_newton_terms(case, worst_errors):
+    """ik_terms: F = [Phi; x] and dF/dq = [Phi_q; J] in one call, against SymPy's."""
+    name, ref, robot, q, *_ = case
+    p = robot.p
+    raw = robot.library.functions["ik_terms"](len(q), {"q": q, "p": p})
+    x, J = ref("x", p, q)[..., 0], ref("J", p, q)
+    if robot.is_closed_chain:
+        x = np.concatenate([ref("phi", p, q)[..., 0], x], axis=1)
+        J = np.concatenate([ref("phi_q", p, q), J], axis=1)
+    _check(worst_errors, f"sympy ik_terms F {name}", raw["F"], x)
+    _check(worst_errors, f"sympy ik_terms dF/dq {name}", raw["dF_dq"], J)
+
+
 def test_closed_chain_outputs(case, worst_errors):
     name, ref, robot, q, qd, *_ = case
     if not robot.is_closed_chain:
@@ -199,6 +212,7 @@ def test_every_generated_function_is_covered(case):
                  "closed_inverse_dynamics", "closed_regressor"}
                 if robot.is_closed_chain else {"forward_dynamics", "forward_dynamics_jacobian"})
     covered |= {"regressor"}  # below, and in tests/test_identify.py
+    covered |= {"ik_terms"} if robot.task_names else set()
     assert set(robot.library.manifest["functions"]) == covered
 
 

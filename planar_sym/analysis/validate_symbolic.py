@@ -119,6 +119,11 @@ def _sympy_reference(model, p, states) -> dict[str, np.ndarray]:
         for key, v in r.items():
             out[key].append(v)
     refs = {k: np.array(v) for k, v in out.items() if v}
+    if model.task.shape[0]:  # ik_terms: Newton's F = [Phi; x] and dF/dq = [Phi_q; J]
+        refs["F"] = np.concatenate([refs["phi"].reshape(len(refs["x"]), -1, 1),
+                                    refs["x"].reshape(len(refs["x"]), -1, 1)], axis=1)
+        refs["dF_dq"] = np.concatenate([refs["phi_q"].reshape(len(refs["J"]), -1, n),
+                                        refs["J"]], axis=1)
     if con.phi.shape[0]:  # closed chains: the fused solve, by numpy from the SymPy M, h, Phi_q
         refs.update(_closed_reference(model, refs, states["qd"], states["qdd"]))
     return refs
