@@ -61,3 +61,21 @@ def test_newton_through_one_call_or_three_agrees(name, monkeypatch):
     assert (fused.iterations, fused.evaluations) == (three.iterations, three.evaluations)
     seed = inverse_kinematics(robot, traj, solver="seed")
     assert np.max(np.abs(fused.q - seed.q)) <= 1e-12
+
+
+def test_newton_asks_for_the_fused_call_where_the_robot_has_it(monkeypatch):
+    """The fused call is the one used (the two paths give the same numbers, so only the
+    addresses asked for show it): ik_terms where the manifest lists it, else the three."""
+    robot, traj, _ = study_motion("five_bar_type1_move_x")
+    lib = robot.library
+    asked = []
+    address = lib.address
+    monkeypatch.setattr(lib, "address", lambda quantity: asked.append(quantity) or
+                        address(quantity))
+    newton.solve(robot, traj.t_s, traj.x)
+    assert asked == ["task", "constraint", "constraint_jacobian", "ik_terms"]
+    asked.clear()
+    monkeypatch.setattr(lib, "manifest", {**lib.manifest, "functions": {
+        k: v for k, v in lib.manifest["functions"].items() if k != "ik_terms"}})
+    newton.solve(robot, traj.t_s, traj.x)
+    assert asked == ["task", "constraint", "constraint_jacobian"]
