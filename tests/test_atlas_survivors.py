@@ -1,0 +1,56 @@
+"""Survivors of the first mutation runs of the atlas's modules (issue 30): ``atlas_grid``,
+``atlas_flood`` and ``atlas``, each figure against a rule worked out by hand in the test."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import planar_sym as ps
+from planar_sym.analysis.atlas_grid import DEFAULT_POINTS, make_grid
+
+
+@pytest.fixture(scope="module")
+def arm():
+    return ps.load("serial_2dof")
+
+
+# -- atlas_grid.py -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("x_range, y_range, nx, ny", [
+    ((0.02, 0.18), (-0.1, -0.02), 101, 51),  # x the longer side, neither range about 0
+    ((-0.1, -0.02), (0.02, 0.18), 51, 101),  # y the longer side
+])
+def test_the_default_step_puts_101_points_on_the_longer_side(arm, x_range, y_range, nx, ny):
+    """Catches make_grid's default step taken from a sum of a range's ends instead of its
+    width (``xr[1] + xr[0]``, ``xr[1] - xr[1]``, ``yr[1] + yr[0]``): with neither a step nor
+    points, the longer side of the region gets DEFAULT_POINTS = 101 points and the shorter
+    one the same step, (longer side) / 100: 0.16 m / 100 = 1.6 mm, so the 0.08 m side has
+    0.08 / 0.0016 + 1 = 51 points, starting at the range's low end. L_c stays the arm's
+    reach radius, 1.05 x 0.2 m, not a length of the region."""
+    assert DEFAULT_POINTS == 101
+    g = make_grid(arm, x_range=x_range, y_range=y_range)
+    assert (len(g.x_m), len(g.y_m)) == (nx, ny)
+    step = 0.16 / 100
+    np.testing.assert_allclose(g.x_m, x_range[0] + step * np.arange(nx), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(g.y_m, y_range[0] + step * np.arange(ny), rtol=0, atol=1e-15)
+    assert g.length_scale_m == pytest.approx(1.05 * 0.2, rel=1e-14)
+
+
+def test_a_step_that_does_not_divide_the_region_stops_short_of_its_end(arm):
+    """Catches make_grid's y axis spread over the whole y range (numpy's linspace to its end)
+    when a step is given: a step of 0.1 m on y from -0.1 to 0.05 m gives the points -0.1 and
+    0.0 m (0.05 m is not a multiple of the step away from the start), as on x from 0 to
+    0.25 m: 0, 0.1, 0.2 m."""
+    g = make_grid(arm, x_range=(0.0, 0.25), y_range=(-0.1, 0.05), step=0.1)
+    np.testing.assert_allclose(g.x_m, [0.0, 0.1, 0.2], rtol=0, atol=1e-16)
+    np.testing.assert_allclose(g.y_m, [-0.1, 0.0], rtol=0, atol=1e-16)
+
+
+def test_without_a_reach_bound_the_length_scale_is_half_the_longer_side():
+    """Catches make_grid's default L_c of a robot with a slider on every leg (serial_rpr: no
+    reach bound) taken from a sum of the y range's ends or from x alone: half the longer side
+    of the region given, here y from 0.05 to 0.35 m: 0.15 m (x is 0.1 m wide)."""
+    g = make_grid(ps.load("serial_rpr"), x_range=(-0.1, 0.0), y_range=(0.05, 0.35), points=3)
+    assert g.reach_box_m is None
+    assert g.length_scale_m == pytest.approx(0.15, rel=1e-14)
