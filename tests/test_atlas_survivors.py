@@ -54,3 +54,20 @@ def test_without_a_reach_bound_the_length_scale_is_half_the_longer_side():
     g = make_grid(ps.load("serial_rpr"), x_range=(-0.1, 0.0), y_range=(0.05, 0.35), points=3)
     assert g.reach_box_m is None
     assert g.length_scale_m == pytest.approx(0.15, rel=1e-14)
+
+
+def test_the_task_body_is_the_shortest_chain_of_exactly_the_moving_coordinates():
+    """Catches atlas_grid._task_body comparing with a field the best candidate does not have
+    (``best[2]``) and returning ``best[0]`` when there is no candidate: on a chain drawn by
+    hand, ground -(joint 0, coordinate 0)-> A -(joint 1, coordinate 1)-> B -(weld)-> C, a
+    task point moved by coordinates 0 and 1 is on B (C, welded to it, has the same
+    coordinates by a longer chain; A lacks coordinate 1), one moved by coordinate 0 only is
+    on A, and one moved by coordinate 1 alone is on no body: None."""
+    from planar_sym.analysis.atlas_grid import _task_body
+
+    joints = [{"parent": "ground", "child": "A", "coordinate": 0, "closes_loop": False},
+              {"parent": "A", "child": "B", "coordinate": 1, "closes_loop": False},
+              {"parent": "B", "child": "C", "coordinate": None, "closes_loop": False}]
+    assert _task_body(joints, np.array([[0.2, 0.1], [0.05, -0.1]])) == "B"
+    assert _task_body(joints, np.array([[0.2, 0.0], [0.05, 0.0]])) == "A"
+    assert _task_body(joints, np.array([[0.0, 0.1], [0.0, -0.1]])) is None
