@@ -71,3 +71,49 @@ def test_the_task_body_is_the_shortest_chain_of_exactly_the_moving_coordinates()
     assert _task_body(joints, np.array([[0.2, 0.1], [0.05, -0.1]])) == "B"
     assert _task_body(joints, np.array([[0.2, 0.0], [0.05, 0.0]])) == "A"
     assert _task_body(joints, np.array([[0.0, 0.1], [0.0, -0.1]])) is None
+
+
+# -- atlas_flood.py ----------------------------------------------------------------------------
+
+def _halving_newton(monkeypatch):
+    """atlas_flood._Newton on a problem whose iterates are known in closed form: one
+    coordinate (rad), the task x(q) = q, no loops, and a K of 2 where the derivative is 1, so
+    every Newton step q <- q - (q - x*) / 2 halves the error: e_k = e_0 / 2^k exactly (powers
+    of two). det K = 2 > 0 keeps the start's sign."""
+    from types import SimpleNamespace
+
+    from planar_sym.analysis import atlas_flood
+
+    def stacked(robot, q):
+        n = len(q)
+        return np.full((n, 1, 1), 2.0), q.copy(), np.zeros((n, 0)), None
+
+    monkeypatch.setattr(atlas_flood, "stacked", stacked)
+    return atlas_flood._Newton(SimpleNamespace(coordinate_units=("rad",)), 1.0, 1.0)
+
+
+def test_newton_accepts_a_cell_converged_by_its_twelfth_step_and_no_later(monkeypatch):
+    """Catches _Newton.solve's loop run for NEWTON_ITER - 1 rounds (11 steps, the last one's
+    result never checked): a cell whose error is below NEWTON_TOL (1 + |x*|) = 1e-12 after
+    exactly 12 halvings (e_0 = 0.9e-12 x 2^12, e_10 = 3.6e-12) is accepted, at its 12th
+    iterate; one that would need a 13th (e_0 = 1.1e-12 x 2^12) is not."""
+    from planar_sym.analysis.atlas_flood import NEWTON_ITER, NEWTON_TOL
+
+    assert (NEWTON_ITER, NEWTON_TOL) == (12, 1e-12)
+    newton = _halving_newton(monkeypatch)
+    e0 = np.array([[0.9e-12 * 2**12], [1.1e-12 * 2**12]])
+    q, ok = newton.solve(e0, np.zeros((2, 1)))
+    assert ok.tolist() == [True, False]
+    assert q[0, 0] == e0[0, 0] / 2**12
+
+
+def test_newtons_tolerance_is_scaled_by_each_cells_own_target(monkeypatch):
+    """Catches the tolerance's scale 1 + |x*|_inf taken as 2 + |x*|_inf, or over every cell
+    at once (``axis=None``) instead of per cell: after 12 halvings both cells below miss
+    their target by 5e-12 (rad); the cell at x* = 9 accepts it (scale 10: 1e-11), the cell
+    at x* = 0 does not (scale 1: 1e-12), and at x* = 0 an error of 1.5e-12 is refused too."""
+    newton = _halving_newton(monkeypatch)
+    target = np.array([[0.0], [9.0], [0.0]])
+    e12 = np.array([[5e-12], [5e-12], [1.5e-12]])
+    q, ok = newton.solve(target + e12 * 2**12, target)
+    assert ok.tolist() == [False, True, False]
