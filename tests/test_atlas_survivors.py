@@ -115,5 +115,5 @@ def test_newtons_tolerance_is_scaled_by_each_cells_own_target(monkeypatch):
     newton = _halving_newton(monkeypatch)
     target = np.array([[0.0], [9.0], [0.0]])
     e12 = np.array([[5e-12], [5e-12], [1.5e-12]])
-    q, ok = newton.solve(target + e12 * 2**12, target)
+    _, ok = newton.solve(target + e12 * 2**12, target)
     assert ok.tolist() == [False, True, False]
