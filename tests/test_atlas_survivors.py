@@ -96,15 +96,16 @@ def test_newton_accepts_a_cell_converged_by_its_twelfth_step_and_no_later(monkey
     """Catches _Newton.solve's loop run for NEWTON_ITER - 1 rounds (11 steps, the last one's
     result never checked): a cell whose error is below NEWTON_TOL (1 + |x*|) = 1e-12 after
     exactly 12 halvings (e_0 = 0.9e-12 x 2^12, e_10 = 3.6e-12) is accepted, at its 12th
-    iterate; one that would need a 13th (e_0 = 1.1e-12 x 2^12) is not."""
+    iterate; one that would need a 13th (e_0 = 1.1e-12 x 2^12) is not; one left exactly at
+    NEWTON_TOL (e_0 = 1e-12 x 2^12: every halving is exact) is accepted (``<=``)."""
     from planar_sym.analysis.atlas_flood import NEWTON_ITER, NEWTON_TOL
 
     assert (NEWTON_ITER, NEWTON_TOL) == (12, 1e-12)
     newton = _halving_newton(monkeypatch)
-    e0 = np.array([[0.9e-12 * 2**12], [1.1e-12 * 2**12]])
-    q, ok = newton.solve(e0, np.zeros((2, 1)))
-    assert ok.tolist() == [True, False]
-    assert q[0, 0] == e0[0, 0] / 2**12
+    e0 = np.array([[0.9e-12 * 2**12], [1.1e-12 * 2**12], [1e-12 * 2**12]])
+    q, ok = newton.solve(e0, np.zeros((3, 1)))
+    assert ok.tolist() == [True, False, True]
+    assert q[0, 0] == e0[0, 0] / 2**12 and q[2, 0] == NEWTON_TOL
 
 
 def test_newtons_tolerance_is_scaled_by_each_cells_own_target(monkeypatch):
