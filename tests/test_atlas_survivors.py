@@ -118,3 +118,71 @@ def test_newtons_tolerance_is_scaled_by_each_cells_own_target(monkeypatch):
     e12 = np.array([[5e-12], [5e-12], [1.5e-12]])
     _, ok = newton.solve(target + e12 * 2**12, target)
     assert ok.tolist() == [False, True, False]
+
+
+def test_newton_stops_at_its_aim_not_before_and_not_after(monkeypatch):
+    """Catches the aim |F| <= NEWTON_AIM (1 + |x*|) turned strict or divided by the scale:
+    Newton steps a cell until its residual is at or below the aim, then leaves it. With every
+    step halving the error: from 8e-14 at x* = 0 the cell stops at exactly 1e-14 = NEWTON_AIM
+    (three halvings, all exact); from 1.2e-12 at x* = 9 (aim 1e-13) at 7.5e-14 (four)."""
+    from planar_sym.analysis.atlas_flood import NEWTON_AIM
+
+    assert NEWTON_AIM == 1e-14
+    newton = _halving_newton(monkeypatch)
+    target = np.array([[0.0], [9.0]])
+    q, ok = newton.solve(target + [[8e-14], [1.2e-12]], target)
+    assert ok.tolist() == [True, True]
+    assert q[0, 0] == 1e-14
+    assert q[1, 0] - 9.0 == pytest.approx(7.5e-14, abs=5e-15)
+
+
+def _line_robot(monkeypatch, k):
+    """A one-coordinate stand-in for atlas_flood.flood: x(q) = q, no loops, K = k (1: exact
+    Newton, one step to the target; 2: every step halves the error)."""
+    from types import SimpleNamespace
+
+    from planar_sym.analysis import atlas_flood
+
+    def stacked(robot, q):
+        n = len(q)
+        return np.full((n, 1, 1), float(k)), q.copy(), np.zeros((n, 0)), None
+
+    monkeypatch.setattr(atlas_flood, "stacked", stacked)
+    return SimpleNamespace(n=1, coordinate_units=("rad",))
+
+
+def test_the_fill_retries_a_far_neighbour_in_substeps_and_counts_its_waves(monkeypatch):
+    """Catches the retry of failed cells dropped or given to the cells that succeeded, the
+    neighbour at flat index 0 taken for one outside the grid (``nbs > 0``), and the progress
+    calls' arguments: a line of three cells 0.8 rad apart, filled from cell 0 with exact
+    Newton; one step of 0.8 rad is refused (more than DQ_LIMIT = 0.5 rad), four substeps of
+    0.2 rad reach each cell. The fill hears (solved, total) after each wave, then (total,
+    total): (2, 3), (3, 3), (3, 3)."""
+    from planar_sym.analysis.atlas_flood import DQ_LIMIT, SUBSTEPS, flood
+
+    assert (DQ_LIMIT, SUBSTEPS) == (0.5, 4)
+    robot = _line_robot(monkeypatch, 1)
+    targets = np.array([[0.0], [0.8], [1.6]])
+    heard = []
+    q = flood(robot, targets, (1, 1, 3), 0, np.array([0.0]), 1.0,
+              lambda done, total: heard.append((done, total)))
+    np.testing.assert_allclose(q, targets, rtol=0, atol=1e-15)
+    assert heard == [(2, 3), (3, 3), (3, 3)]
+
+
+def test_a_neighbour_is_first_tried_in_one_step_then_in_four(monkeypatch):
+    """Catches the first attempt made in two steps, and the substeps' targets spaced s * steps
+    instead of s / steps: with every Newton step halving the error (12 steps), a neighbour
+    6e-9 rad away is missed in one step (6e-9 / 2^12 = 1.46e-12 > NEWTON_TOL) and reached in
+    four of 1.5e-9, each leaving 1/4096 of its error: the pose is the one this recurrence
+    gives, 3.7e-13 short of the target (two steps would leave 7.3e-13)."""
+    from planar_sym.analysis.atlas_flood import flood
+
+    robot = _line_robot(monkeypatch, 2)
+    targets = np.array([[0.0], [6e-9]])
+    q = flood(robot, targets, (1, 1, 2), 0, np.array([0.0]), 1.0)
+    want = 0.0
+    for s in range(1, 5):
+        want += (s / 4 * 6e-9 - want) * (1 - 2.0**-12)
+    assert 6e-9 - want == pytest.approx(3.7e-13, rel=0.02)
+    assert q[1, 0] == pytest.approx(want, rel=0, abs=1e-21)
