@@ -186,3 +186,61 @@ def test_a_neighbour_is_first_tried_in_one_step_then_in_four(monkeypatch):
         want += (s / 4 * 6e-9 - want) * (1 - 2.0**-12)
     assert 6e-9 - want == pytest.approx(3.7e-13, rel=0.02)
     assert q[1, 0] == pytest.approx(want, rel=0, abs=1e-21)
+
+
+def test_newton_gives_up_a_step_beyond_twice_its_limit_and_singular_cells(monkeypatch):
+    """Catches the give-up rule of _Newton.solve changed: a step may go up to 2 x DQ_LIMIT
+    (1 rad) from the start (``<=``, not ``<``, nor 3 x or 2 / DQ_LIMIT), a step beyond it
+    ends the cell (not kept alive at its pose), an exactly singular K ends it (not solved:
+    numpy refuses a singular matrix), and the final limit is each cell's own. One coordinate,
+    x(q) = q, K = 0.1 for q < 0.05, 4e-13 for 0.29 < q < 0.31, 0 for q < -0.5, else 1:
+    from 0 to 0.1 the first step lands exactly 1 rad away, then exact Newton comes back:
+    accepted; to 0.12 it lands 1.2 rad away: given up; from 0.3 + 5e-13 to 0.3 (already
+    within NEWTON_TOL, above the aim) the step of 1.25 rad is refused: given up; from -1 the
+    singular cell is given up; from 2 to 2.3 accepted, to 2.6 not (0.6 rad > DQ_LIMIT)."""
+    from types import SimpleNamespace
+
+    from planar_sym.analysis import atlas_flood
+
+    def stacked(robot, q):
+        k = np.where(q < -0.5, 0.0, np.where(q < 0.05, 0.1, np.where(
+            np.abs(q - 0.3) < 0.01, 4e-13, 1.0)))
+        return k[:, :, None], q.copy(), np.zeros((len(q), 0)), None
+
+    monkeypatch.setattr(atlas_flood, "stacked", stacked)
+    newton = atlas_flood._Newton(SimpleNamespace(coordinate_units=("rad",)), 1.0, 1.0)
+    q0 = np.array([[0.0], [0.0], [0.3 + 5e-13], [-1.0], [2.0], [2.0]])
+    target = np.array([[0.1], [0.12], [0.3], [-0.9], [2.3], [2.6]])
+    q, ok = newton.solve(q0, target)
+    assert ok.tolist() == [True, False, False, False, True, False]
+    np.testing.assert_allclose(q[ok], target[ok], rtol=0, atol=1e-15)
+
+
+def test_the_start_cell_is_the_one_nearest_the_start_pose():
+    """Catches atlas_flood._start_cell's nearest row found for -y or with x's coordinate, and
+    its layer always the first: serial_2dof at q = (0.3, 0.5) rad has its tip at
+    x = 0.1 (cos 0.3 + cos 0.8), y = 0.1 (sin 0.3 + sin 0.8) = (0.1652, 0.1013) m; on a
+    5 x 5 grid over x 0..0.2, y -0.05..0.15 m the nearest point is x = 0.15, y = 0.1 (column
+    3, row 3), which the pose returned reaches. serial_3dof at its drawn pose, bent, with
+    orientations phi0 - 0.3 and phi0 + 0.05 rad: the start layer is the second."""
+    from planar_sym.analysis.atlas_flood import _start_cell
+
+    arm = ps.load("serial_2dof")
+    q0 = np.array([0.3, 0.5])
+    tip = 0.1 * np.array([np.cos(0.3) + np.cos(0.8), np.sin(0.3) + np.sin(0.8)])
+    g = make_grid(arm, x_range=(0.0, 0.2), y_range=(-0.05, 0.15), points=5)
+    cell, q = _start_cell(arm, g, g.targets(), q0)
+    assert (int(np.argmin(np.abs(g.x_m - tip[0]))), int(np.argmin(np.abs(g.y_m - tip[1])))) \
+        == (3, 3)
+    assert cell == np.ravel_multi_index((0, 3, 3), g.shape)
+    np.testing.assert_allclose(np.reshape(arm.task(q)[0], -1), [0.15, 0.1], rtol=0, atol=1e-12)
+    three = ps.load("serial_3dof")
+    q0 = np.array([0.2, 0.4, 0.3])
+    x0 = np.reshape(three.task(q0)[0], -1)
+    assert x0[2] == pytest.approx(0.9, rel=1e-14)  # phi, the angles summed
+    g = make_grid(three, x_range=(x0[0] - 0.01, x0[0] + 0.01), y_range=(x0[1] - 0.01,
+                  x0[1] + 0.01), points=3, orientations=[0.6, 0.95])
+    cell, q = _start_cell(three, g, g.targets(), q0)
+    assert cell == np.ravel_multi_index((1, 1, 1), g.shape)
+    np.testing.assert_allclose(np.reshape(three.task(q)[0], -1), [x0[0], x0[1], 0.95],
+                               rtol=0, atol=1e-12)
