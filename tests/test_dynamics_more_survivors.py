@@ -1,5 +1,6 @@
 """Survivors of mutation testing (issue 30) in ``dynamics/integrate.py`` and
-``dynamics/linearize.py``: two refusals, each checked word for word against the rule it states.
+``dynamics/linearize.py``: two refusals, each checked word for word against the rule it states,
+and the clock a free run reports while its compiled loop runs.
 """
 
 from __future__ import annotations
@@ -41,3 +42,21 @@ def test_linearize_refuses_a_closed_chain_with_more_passive_coordinates_than_loo
         ps.linearize(loop, np.zeros(4))
     assert str(info.value) == ("stand_in: linearize needs as many passive coordinates as loop "
                                "equations (3 against 2)")
+
+
+def test_a_free_runs_progress_hears_its_clock_up_to_its_own_end():
+    """Catches integrate._dopri5's watcher given no clock, another end time (the grid's
+    second or last-but-one time, or none) or no callback: ps.simulate of serial_2dof from
+    0.2 to 0.7 s with a progress callback hears at least once, every time with the run's end
+    0.7 s (t_eval's last time, not 0.25 or 0.6 s), clock readings between 0.2 and 0.7 s that
+    never go back, the last one the end itself; and the run is the one made without it."""
+    robot = ps.load("serial_2dof")
+    heard = []
+    t = np.array([0.2, 0.25, 0.4, 0.6, 0.7])
+    run = ps.simulate(robot, [0.3, 0.2], [0.0, 0.0], (0.2, 0.7), t_eval=t,
+                      progress=lambda done, total: heard.append((done, total)))
+    assert heard and all(total == 0.7 for _, total in heard)
+    clock = [done for done, _ in heard]
+    assert clock == sorted(clock) and 0.2 <= clock[0] and clock[-1] == 0.7
+    plain = ps.simulate(robot, [0.3, 0.2], [0.0, 0.0], (0.2, 0.7), t_eval=t)
+    assert np.array_equal(run.q, plain.q) and np.array_equal(run.t_s, t)
