@@ -244,3 +244,21 @@ def test_the_start_cell_is_the_one_nearest_the_start_pose():
     assert cell == np.ravel_multi_index((1, 1, 1), g.shape)
     np.testing.assert_allclose(np.reshape(three.task(q)[0], -1), [x0[0], x0[1], 0.95],
                                rtol=0, atol=1e-12)
+
+
+def test_an_unreachable_start_cell_is_named_with_its_orientation_in_degrees():
+    """Catches the refusal of a start cell the start pose cannot reach naming its orientation
+    in mm, or in another angle unit: serial_3dof from q = (0.2, 0.4, 0.3) rad (phi = 0.9 rad)
+    on a region 0.15..0.22 m square at the one orientation 0.9 rad; the grid point nearest the
+    start pose is (185, 150) mm, out of reach: phi is given as 0.9 rad = 51.57 deg."""
+    from planar_sym.analysis.atlas import atlas
+    from planar_sym.errors import WorkspaceError
+
+    with pytest.raises(WorkspaceError) as err:
+        atlas("serial_3dof", x_range=(0.15, 0.22), y_range=(0.15, 0.22), points=3,
+              orientations=[0.9], q_start=[0.2, 0.4, 0.3])
+    assert f"{np.degrees(0.9):.4g}" == "51.57"
+    assert str(err.value) == ("serial_3dof: the grid point nearest the start pose (x 185 mm, "
+                              "y 150 mm, phi 51.57 deg) cannot be reached from it in its "
+                              "working mode: choose a region around the start pose or another "
+                              "start pose (q_start)")
