@@ -197,7 +197,8 @@ def test_newton_gives_up_a_step_beyond_twice_its_limit_and_singular_cells(monkey
     from 0 to 0.1 the first step lands exactly 1 rad away, then exact Newton comes back:
     accepted; to 0.12 it lands 1.2 rad away: given up; from 0.3 + 5e-13 to 0.3 (already
     within NEWTON_TOL, above the aim) the step of 1.25 rad is refused: given up; from -1 the
-    singular cell is given up; from 2 to 2.3 accepted, to 2.6 not (0.6 rad > DQ_LIMIT)."""
+    singular cell is given up; from 2 to 2.3 accepted, to 2.6 not (0.6 rad > DQ_LIMIT), to
+    2.5 accepted (exactly DQ_LIMIT away: the limit is inclusive)."""
     from types import SimpleNamespace
 
     from planar_sym.analysis import atlas_flood
@@ -209,10 +210,10 @@ def test_newton_gives_up_a_step_beyond_twice_its_limit_and_singular_cells(monkey
 
     monkeypatch.setattr(atlas_flood, "stacked", stacked)
     newton = atlas_flood._Newton(SimpleNamespace(coordinate_units=("rad",)), 1.0, 1.0)
-    q0 = np.array([[0.0], [0.0], [0.3 + 5e-13], [-1.0], [2.0], [2.0]])
-    target = np.array([[0.1], [0.12], [0.3], [-0.9], [2.3], [2.6]])
+    q0 = np.array([[0.0], [0.0], [0.3 + 5e-13], [-1.0], [2.0], [2.0], [2.0]])
+    target = np.array([[0.1], [0.12], [0.3], [-0.9], [2.3], [2.6], [2.5]])
     q, ok = newton.solve(q0, target)
-    assert ok.tolist() == [True, False, False, False, True, False]
+    assert ok.tolist() == [True, False, False, False, True, False, True]  # 0.5 rad: at most
     np.testing.assert_allclose(q[ok], target[ok], rtol=0, atol=1e-15)
 
 
@@ -262,3 +263,35 @@ def test_an_unreachable_start_cell_is_named_with_its_orientation_in_degrees():
                               "y 150 mm, phi 51.57 deg) cannot be reached from it in its "
                               "working mode: choose a region around the start pose or another "
                               "start pose (q_start)")
+
+
+def test_a_closed_chains_start_off_its_loops():
+    """Catches atlas_flood.start's refusal reworded or its gap scaled otherwise than to mm,
+    and a q_start near the loops replaced by the drawn pose: five_bar_type1 with passive
+    joint 2 moved 0.05 rad off its drawn pose misses the loops by max |Phi| (evaluated here
+    by the robot's constraint function, 4.19 mm): refused with that gap; a pose with the first
+    actuated joint turned 0.05 rad, assembled, then its passive joint 2 moved 0.3 mrad
+    (within the 1 mm allowed) starts at those actuated angles, its passive ones solved."""
+    from planar_sym.analysis.atlas_flood import start
+    from planar_sym.errors import InputError
+    from planar_sym.motion.closure import solve_passive
+
+    five = ps.load("five_bar_type1")
+    off = five.q_drawn.copy()
+    off[1] += 0.05
+    gap = float(np.max(np.abs(five.constraint(off))))
+    with pytest.raises(InputError) as err:
+        start(five, off)
+    assert str(err.value) == (f"five_bar_type1: q_start does not close the loops (|Phi| = "
+                              f"{gap * 1e3:.4g} mm, limit 1 mm): give an assembled pose")
+    assert f"{gap * 1e3:.4g}" == "4.192"
+    turned = five.q_drawn.copy()
+    turned[0] += 0.05
+    turned = solve_passive(five, turned[[0, 2]][None], turned)[0]
+    near = turned.copy()
+    near[1] += 3e-4
+    assert 0 < np.max(np.abs(five.constraint(near))) < 1e-3
+    q, note = start(five, near)
+    assert note == "" and np.max(np.abs(five.constraint(q))) < 1e-12
+    np.testing.assert_array_equal(q[[0, 2]], turned[[0, 2]])
+    np.testing.assert_allclose(q, turned, rtol=0, atol=1e-9)
