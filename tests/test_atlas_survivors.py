@@ -271,7 +271,8 @@ def test_a_closed_chains_start_off_its_loops():
     joint 2 moved 0.05 rad off its drawn pose misses the loops by max |Phi| (evaluated here
     by the robot's constraint function, 4.19 mm): refused with that gap; a pose with the first
     actuated joint turned 0.05 rad, assembled, then its passive joint 2 moved 0.3 mrad
-    (within the 1 mm allowed) starts at those actuated angles, its passive ones solved."""
+    (within the 1 mm allowed) starts at those actuated angles, its passive ones solved; one
+    near the other assembly mode starts in that mode (its passive joints solved from it)."""
     from planar_sym.analysis.atlas_flood import start
     from planar_sym.errors import InputError
     from planar_sym.motion.closure import solve_passive
@@ -295,3 +296,13 @@ def test_a_closed_chains_start_off_its_loops():
     assert note == "" and np.max(np.abs(five.constraint(q))) < 1e-12
     np.testing.assert_array_equal(q[[0, 2]], turned[[0, 2]])
     np.testing.assert_allclose(q, turned, rtol=0, atol=1e-9)
+    # the other assembly mode (passive joints about -2.62 and 2.62 rad instead of the drawn
+    # -1.52 and 1.52): a q_start near it keeps it, solved from itself, not from the drawing
+    guess = five.q_drawn.copy()
+    guess[[1, 3]] = [-2.6, 2.6]
+    other = solve_passive(five, five.q_drawn[[0, 2]][None], guess)[0]
+    assert abs(other[1] - five.q_drawn[1]) > 1.0
+    near = other.copy()
+    near[1] += 3e-4
+    q, _ = start(five, near)
+    np.testing.assert_allclose(q, other, rtol=0, atol=1e-9)
