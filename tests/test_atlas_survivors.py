@@ -306,3 +306,34 @@ def test_a_closed_chains_start_off_its_loops():
     near[1] += 3e-4
     q, _ = start(five, near)
     np.testing.assert_allclose(q, other, rtol=0, atol=1e-9)
+
+
+def test_a_singular_drawn_tree_is_bent_from_its_drawn_angles(monkeypatch):
+    """Catches atlas_flood.start setting the revolute joints after the first to BEND_RAD
+    instead of turning them by it, and a note where the drawn pose is fine: a stand-in tree
+    drawn folded, (0.3, pi) rad, whose start_pose refuses the drawn configuration (singular)
+    and takes any pose given, starts at (0.3, pi + 30 deg); serial_rpr, whose drawn pose is
+    regular, starts there with no note."""
+    from types import SimpleNamespace
+
+    from planar_sym.analysis.atlas_flood import BEND_RAD, start
+    from planar_sym.errors import WorkspaceError
+    from planar_sym.motion import newton
+
+    rpr = ps.load("serial_rpr")
+    q, note = start(rpr, None)
+    assert note == "" and np.array_equal(q, rpr.q_drawn)
+
+    def start_pose(robot, q):
+        if q is None:
+            raise WorkspaceError("singular")
+        return q
+
+    monkeypatch.setattr(newton, "start_pose", start_pose)
+    folded = SimpleNamespace(is_closed_chain=False, q_drawn=np.array([0.3, np.pi]),
+                             coordinate_units=("rad", "rad"), coordinates=("a", "b"))
+    q, note = start(folded, None)
+    assert BEND_RAD == np.radians(30.0)
+    np.testing.assert_array_equal(q, [0.3, np.pi + np.radians(30.0)])
+    assert note.startswith("the drawn configuration is singular: started from it with joints b "
+                           "bent by 30 deg")
