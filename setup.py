@@ -60,6 +60,8 @@ def _robot_builds(folder: Path) -> list[tuple[Path, tuple, str]]:
     manifest = json.loads((folder / "manifest.json").read_text())
     robot, files = manifest["robot"], manifest["files"]
     builds = []
+    if len(manifest.get("groups") or [0]) > 1:  # a big robot: its groups compile on first use
+        return builds
     for flavour, flags, keyed in (("exact", CFLAGS, CFLAGS),
                                   ("simd", SIMD_CFLAGS, SIMD_CFLAGS + (_machine_key(),))):
         source = f"{robot}.c" if flavour == "exact" else f"{robot}_{flavour}.c"

@@ -124,4 +124,5 @@ def _on_the_evaluator(robot: str):
     lib.functions = {q: CasadiFunction(lib.folder / lib.manifest["functions"][q]["casadi"],
                                        f.spec) for q, f in lib.functions.items()}
     lib.lib = lib.simd = None
+    lib.compiled = False
     return Robot(robot, lib, parameters=ps.load(robot).p, exact=True)

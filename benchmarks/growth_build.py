@@ -26,14 +26,25 @@ from .timing import Stats
 ROOT = Path(__file__).resolve().parent.parent
 ROUTES = {"closed form": "CF", "algorithmic differentiation": "AD"}
 
-#: run in the compile subprocess: first use of the derived folder, then what its compilers took
+#: run in the compile subprocess: "first" is a user's first use of the derived folder (the
+#: robot, then the torques of the tree at the drawn pose: what compiles on first use), "all"
+#: compiles every other group too (``planar-sym build``); then what its compilers took
 COMPILE = """
 import json, resource, sys, time
 from pathlib import Path
 t0 = time.perf_counter()
+import numpy as np
 from planar_sym.model.library import Library
+from planar_sym.model.robot import Robot
 lib = Library(sys.argv[1], Path(sys.argv[2]))
-print(json.dumps({"library_s": time.perf_counter() - t0, "simd": lib.simd is not None,
+robot = Robot(sys.argv[1], lib)
+if sys.argv[3] == "first":
+    z = np.zeros((1, robot.n))
+    robot.tree_inverse_dynamics(robot.q_drawn[None], z, z)
+else:
+    lib.build_all()
+print(json.dumps({"library_s": time.perf_counter() - t0, "simd": lib.simd is not None
+                  or len(lib.groups) > 1, "groups": len(lib.groups),
                   "maxrss_kib": resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss}))
 """
 
@@ -50,6 +61,8 @@ class Robot:
     imports: list[float] = field(default_factory=list)
     compile_wall: list[float] = field(default_factory=list)
     compile_lib: list[float] = field(default_factory=list)
+    rest_wall: list[float] = field(default_factory=list)  # the groups first use left out
+    groups: int = 1
     warm_wall: list[float] = field(default_factory=list)
     maxrss_kib: list[int] = field(default_factory=list)
     simd_built: bool = True
@@ -101,14 +114,18 @@ def _build_rounds(r: Robot, toml: Path, work: Path, repeats: int) -> tuple[Path,
         r.derive_wall.append(wall)
         r.derive_own.append(float(found[0][1]))
         folder = out / name
-        cmd = [sys.executable, "-W", "ignore", "-c", COMPILE, name, str(folder)]
+        cmd = [sys.executable, "-W", "ignore", "-c", COMPILE, name, str(folder), "first"]
         wall, proc = _timed(cmd, _env(cache))
         info = json.loads(proc.stdout.strip().splitlines()[-1])
         r.compile_wall.append(wall)
         r.compile_lib.append(info["library_s"])
-        r.maxrss_kib.append(int(info["maxrss_kib"]))
         r.simd_built = r.simd_built and info["simd"]
+        r.groups = info["groups"]
         r.warm_wall.append(_timed(cmd, _env(cache))[0])
+        rest, proc = _timed([*cmd[:-1], "all"], _env(cache))
+        r.rest_wall.append(rest)
+        r.maxrss_kib.append(max(int(info["maxrss_kib"]), int(json.loads(
+            proc.stdout.strip().splitlines()[-1])["maxrss_kib"])))
         if keep is None:
             keep = (folder, cache)
         else:
@@ -136,11 +153,16 @@ def _code(folder: Path) -> dict:
         "units": len(m.get("compile_units", {}).get("simd", [0])),
         "flag": exact_flags(m)[0],
         "cf": routes.count("closed form"), "ad": routes.count("algorithmic differentiation"),
-        "main": ", ".join(ROUTES.get(fns[q].get("route"), "?") if q in fns else "-"
-                          for q in main),
+        "main": ", ".join(_route(fns[q].get("route", "")) if q in fns else "-" for q in main),
         "eq": len(eq.encode()),
         "eq_kind": "structure" if "structure" in eq else "closed forms",
     }
+
+
+def _route(route: str) -> str:
+    """CF or AD, and +ABA where M^-1 is the articulated-body recursion."""
+    short = next((v for k, v in ROUTES.items() if route.startswith(k)), "?")
+    return short + ("+ABA" if "articulated" in route else "")
 
 
 @contextmanager

@@ -19,7 +19,7 @@ import sympy as sp
 from planar_sym.model import units as _units
 from planar_sym.model.description import GROUND, Description
 
-from . import ad_dynamics, regressor, simd
+from . import ad_dynamics, groups, regressor, simd
 from . import size as sizes
 from .quantities import Generated, choose, functions
 
@@ -127,13 +127,16 @@ LOOPED = ("mass_matrix", "bias", "gravity", "inverse_dynamics", "energy", "forwa
 EQUATIONS = ("auto", "closed", "structure")
 
 
-def render(desc: Description, equations: str = "auto", stage=None) -> dict[str, bytes]:
+def render(desc: Description, equations: str = "auto", stage=None,
+           group_past: int | None = None) -> dict[str, bytes]:
     """All generated files of one robot, as bytes (nothing written yet).
 
     The code comes from algorithmic differentiation of the recursive kinematics, or per
     function from the expanded closed forms where those have fewer operations; the closed
     forms are derived (and printed) only where they fit (``size.py``) or are asked for.
     ``stage(what)``, if given, hears each stage as it starts (a big robot takes minutes).
+    ``group_past``: the operations past which each function compiles on its own
+    (``groups.GROUP_PAST_OPS`` by default; tests set it low).
     """
     stage = stage or (lambda what: None)
     name = desc.name
@@ -164,15 +167,30 @@ def render(desc: Description, equations: str = "auto", stage=None) -> dict[str, 
     for g in gens:
         cg.add(g.function)
     body = _generate(cg, name)
+    # which functions compile together: one group, or past a size each function on its own
+    grouped = groups.assign({g.quantity: g.operations for g in gens}, group_past)
+    group_of = {q: k for k, qs in enumerate(grouped) for q in qs}
+    wrappers = [_batch_wrapper(g) for g in gens]
+    if len(grouped) > 1:
+        body = groups.EXACT_PRELUDE + groups.guard(
+            body, {g.quantity: g.function.name() for g in gens}, group_of)
+        wrappers = [groups.within(group_of[g.quantity], w) for g, w in zip(gens, wrappers)]
     hash_fn = (f"CASADI_SYMBOL_EXPORT const char *{name}_input_hash(void) "
                f'{{ return "{digest}"; }}\n')
     c_src = (_header_comment(desc, f"{name}.c", digest) + body + "\n" + hash_fn + "\n"
-             + "\n".join(_batch_wrapper(g) for g in gens))
+             + "\n".join(wrappers))
     h_src = _header_comment(desc, f"{name}.h", digest) + _header(desc, gens)
     # each loop as pieces of bounded length (a big one cut into parts), shared out into units
+    # that never hold two groups' loops
+    pieces = [(piece, group_of[g.quantity]) for g in gens if g.quantity in LOOPED
+              for piece in simd.loop_parts(g.function)]
     simd_body, unit_operations = simd.assemble(
-        [piece for g in gens if g.quantity in LOOPED for piece in simd.loop_parts(g.function)],
-        f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) {{ return "{digest}"; }}\n')
+        [piece for piece, _ in pieces],
+        f'PLANAR_SYM_EXPORT const char *{name}_simd_input_hash(void) {{ return "{digest}"; }}\n',
+        groups=[k for _, k in pieces])
+    unit_of = simd.units([ops for (_, ops), _ in pieces], groups=[k for _, k in pieces])
+    group_units = [sorted({u for u, (_, k) in zip(unit_of, pieces) if k == g})
+                   for g in range(len(grouped))]
     simd_src = _header_comment(desc, f"{name}_simd.c", digest) + simd_body
     files = {
         f"{name}.c": c_src.encode(),
@@ -186,7 +204,9 @@ def render(desc: Description, equations: str = "auto", stage=None) -> dict[str, 
     }
     files.update({f"{g.quantity}.casadi": _saved(g.function) for g in gens})
     files["manifest.json"] = _manifest(desc, gens, digest, files, unit_operations,
-                                       "closed form" if closed else "structure")
+                                       "closed form" if closed else "structure",
+                                       [{"functions": qs, "units": us}
+                                        for qs, us in zip(grouped, group_units)])
     return files
 
 
@@ -296,7 +316,7 @@ def _actuators(desc: Description) -> list[dict]:
 
 
 def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict,
-              unit_operations: list[int], equations: str) -> bytes:
+              unit_operations: list[int], equations: str, compile_groups: list[dict]) -> bytes:
     funcs = {}
     for g in gens:
         f = g.function
@@ -341,6 +361,10 @@ def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict
         # <robot>_simd.c compiles as one object per unit (-DPLANAR_SYM_UNIT=k), in parallel;
         # each unit's operations show how the loops were shared out
         "compile_units": {"simd": unit_operations},
+        # the libraries a robot compiles into (derive/groups.py): each group's functions (the
+        # exact file built with -DPLANAR_SYM_GROUP=k) and its loops' compile units; past
+        # groups.GROUP_PAST_OPS one function each, built when first called
+        "groups": compile_groups,
         # the loops find non-finite inputs as they copy them in (simd.NONFINITE): callers
         # need no pass of their own (a folder derived before lacks this, and is scanned)
         "loops_check_inputs": True,

@@ -31,12 +31,7 @@ import casadi as ca
 
 from planar_sym.model.description import Description
 
-from .recursion import Tree
-
-
-def _turned(v: ca.SX) -> ca.SX:
-    """z x v: v turned by +90 degrees."""
-    return ca.vertcat(-v[1], v[0])
+from .recursion import Tree, cross_z
 
 
 def mass_matrix(desc: Description, tree: Tree) -> ca.SX:
@@ -98,10 +93,10 @@ def mass_matrix(desc: Description, tree: Tree) -> ca.SX:
             i = index[a.name]
             if a.type == "revolute":
                 d = rk - point[a.name]
-                v = jk + ca.dot(d, hk) if u_k is None else ca.dot(_turned(hk + mk * d), u_k)
+                v = jk + ca.dot(d, hk) if u_k is None else ca.dot(cross_z(hk + mk * d), u_k)
             else:
                 u_i = axis[a.name]
-                v = ca.dot(u_i, _turned(hk)) if u_k is None else mk * ca.dot(u_i, u_k)
+                v = ca.dot(u_i, cross_z(hk)) if u_k is None else mk * ca.dot(u_i, u_k)
             if a.type == "revolute" and j.name in rotors:  # the rotor's N J_m beside
                 v = v + rotors[j.name][0] * rotors[j.name][1]
             M[i, k] = v

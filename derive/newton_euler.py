@@ -27,17 +27,12 @@ import casadi as ca
 
 from planar_sym.model.description import GROUND, Description
 
-from .recursion import Tree
+from .recursion import Tree, cross_z
 
 
 def _cross(a: ca.SX, b: ca.SX) -> ca.SX:
     """The z component of a x b for plane vectors."""
     return a[0] * b[1] - a[1] * b[0]
-
-
-def _turned(v: ca.SX) -> ca.SX:
-    """z x v: v turned by +90 degrees."""
-    return ca.vertcat(-v[1], v[0])
 
 
 def inverse_dynamics(desc: Description, tree: Tree, gravity: ca.SX, friction: ca.SX,
@@ -60,7 +55,7 @@ def inverse_dynamics(desc: Description, tree: Tree, gravity: ca.SX, friction: ca
 
     def point_acc(body: str, r: ca.SX) -> ca.SX:
         d = r - origin[body]
-        return acc[body] + alpha[body] * _turned(d) - omega[body] * omega[body] * d
+        return acc[body] + alpha[body] * cross_z(d) - omega[body] * omega[body] * d
 
     axis = {}
     for j in desc.tree_joints:  # parents first
@@ -70,7 +65,7 @@ def inverse_dynamics(desc: Description, tree: Tree, gravity: ca.SX, friction: ca
             u = tree.slide_axis(j)
             axis[j.name] = u
             c = coordinate[j.name]
-            acc[b] = (point_acc(p, o) + 2 * omega[p] * _turned(u) * qd[c] + u * qdd[c])
+            acc[b] = (point_acc(p, o) + 2 * omega[p] * cross_z(u) * qd[c] + u * qdd[c])
             omega[b], alpha[b] = omega[p], alpha[p]
         else:
             o = tree.at(p, j.parent_point)

@@ -139,8 +139,8 @@ def _forward(fn, qs: Quantities) -> list[Generated]:
     (small robots: a 2 x 2 solve is a handful of products) and the articulated-body recursion
     (``articulated.py``: O(n), ahead from four links of a chain). The Jacobian keeps
     ``L D L^T``: the recursion saves 28% of its operations at 20 links, but gcc took 1.8x the
-    time and 1.46x the memory on it (479 against 329 MiB at ``-O1``), and it is called once per
-    implicit step, not per sample."""
+    time and 1.46x the memory on it (479 against 329 MiB at ``-O1``, measured with the
+    energies' ``h``), and it is called once per implicit step, not per sample."""
     s = qs.sym
     q, qd, tau, p = s.q, s.qd, s.tau, s.p
     n = q.shape[0]

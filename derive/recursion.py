@@ -119,6 +119,11 @@ def walk(desc: Description, sym: Symbols | None = None) -> Tree:
     return tree
 
 
+def cross_z(v: ca.SX) -> ca.SX:
+    """z x v: the plane vector v turned by +90 degrees (the recursions' cross products)."""
+    return ca.vertcat(-v[1], v[0])
+
+
 def _turned(parent: Frame, rel: float) -> Frame:
     """The parent's frame turned by a constant angle: its sine and cosine by the addition
     theorem (no new trigonometric call), the same frame where the angle is zero."""

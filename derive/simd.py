@@ -98,28 +98,34 @@ UNIT_OPS = 3000
 PART_OPS = 1500
 
 
-def units(operations: list[int], unit_ops: int | None = None) -> list[int]:
+def units(operations: list[int], unit_ops: int | None = None,
+          groups: list[int] | None = None) -> list[int]:
     """The compile unit of each piece, in file order: a new unit once ``unit_ops`` (default
-    ``UNIT_OPS``) is full (a robot whose loops all fit in one compiles as one unit, as before)."""
+    ``UNIT_OPS``) is full, or where the piece's compile group (``groups``, derive/groups.py)
+    changes, so no unit holds two groups' loops (a robot whose loops all fit in one compiles as
+    one unit, as before)."""
     unit_ops = unit_ops or UNIT_OPS
+    groups = groups or [0] * len(operations)
     out, unit, filled = [], 0, 0
-    for ops in operations:
-        if filled and filled + ops > unit_ops:
+    for k, ops in enumerate(operations):
+        if filled and (filled + ops > unit_ops or groups[k] != groups[k - 1]):
             unit, filled = unit + 1, 0
         out.append(unit)
         filled += ops
     return out
 
 
-def assemble(pieces: list[tuple[str, int]], first: str = "",
-             unit_ops: int | None = None) -> tuple[str, list[int]]:
-    """The loops' file after ``PRELUDE`` (``first``, if given, in unit 0), and each compile
-    unit's statements: pieces (``loop_parts``) shared out in order by ``units``."""
-    where = units([ops for _, ops in pieces], unit_ops)
+def assemble(pieces: list[tuple[str, int]], first: str = "", unit_ops: int | None = None,
+             groups: list[int] | None = None) -> tuple[str, list[int]]:
+    """The loops' file after ``PRELUDE`` and each compile unit's statements: pieces
+    (``loop_parts``) shared out in order by ``units``. ``first``, if given, opens the file in
+    every library: a whole-file build, and the first unit of each group (the builder defines
+    ``PLANAR_SYM_HEAD`` there)."""
+    where = units([ops for _, ops in pieces], unit_ops, groups)
     ops = [sum(n for (_, n), u in zip(pieces, where) if u == k)
            for k in range(max(where, default=-1) + 1)]
-    body = ((in_unit(0, first) if first else "")
-            + "\n".join(in_unit(u, source) for (source, _), u in zip(pieces, where)))
+    head = f"#if PLANAR_SYM_ALL || defined(PLANAR_SYM_HEAD)\n{first}#endif\n" if first else ""
+    body = head + "\n".join(in_unit(u, source) for (source, _), u in zip(pieces, where))
     return PRELUDE + body, ops
 
 

@@ -23,6 +23,7 @@ def run(args) -> int:
         progress.step(f"compiling {robot}")  # a robot takes a second or more with cc -O3
         name, folder = locate(robot)
         lib = Library(name, folder)
+        lib.build_all()  # a big robot's groups too, which otherwise compile when first called
         if not args.quiet:
             print(f"{robot}: {lib.path or 'no C compiler: CasADi evaluator'}")
     progress.done()

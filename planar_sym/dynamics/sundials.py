@@ -30,8 +30,15 @@ def _externals(robot: Robot) -> dict:
     lib = robot.library
     if not lib.compiled:
         return {q: f.function for q, f in lib.functions.items()}
-    return {q: ca.external(spec["symbol"], str(lib.path), {"enable_fd": True})
-            for q, spec in lib.manifest["functions"].items()}
+
+    class Externals(dict):  # each made when first used: a big robot compiles it then
+        def __missing__(self, quantity: str):
+            symbol = lib.manifest["functions"][quantity]["symbol"]
+            f = self[quantity] = ca.external(symbol, str(lib.exact_path(quantity)),
+                                             {"enable_fd": True})
+            return f
+
+    return Externals()
 
 
 def signal_mx(sig: Signal, t):

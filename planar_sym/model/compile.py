@@ -68,24 +68,43 @@ def _machine_key() -> str:
     return hashlib.sha256("\n".join([platform.machine(), *lines]).encode()).hexdigest()[:8]
 
 
-def exact_flags(manifest: dict) -> tuple[str, ...]:
-    """Flags of ``<robot>.c`` by its size: -O3, or -O1 past ``BIG_OPS`` operations."""
-    ops = sum(f.get("operations", 0) for f in manifest.get("functions", {}).values())
+def groups(manifest: dict) -> list[dict]:
+    """The libraries a robot compiles into (derive/groups.py): each ``{"functions": [...],
+    "units": [...]}``, its functions and its loops' compile units. A folder derived before
+    groups is one group of everything."""
+    functions = manifest.get("functions", {})
+    if manifest.get("groups"):  # (a function a hand-edited manifest dropped is no member)
+        return [{**g, "functions": [q for q in g["functions"] if q in functions]}
+                for g in manifest["groups"]]
+    units = manifest.get("compile_units", {}).get("simd", [0])
+    return [{"functions": list(functions), "units": list(range(len(units)))}]
+
+
+def exact_flags(manifest: dict, group: int = 0) -> tuple[str, ...]:
+    """Flags of ``<robot>.c`` (of one group's functions) by size: -O3, or -O1 past ``BIG_OPS``
+    operations."""
+    functions = manifest.get("functions", {})
+    ops = sum(functions[q].get("operations", 0) for q in groups(manifest)[group]["functions"]
+              if q in functions)
     return BIG_CFLAGS if ops > BIG_OPS else CFLAGS
 
 
-def library_path(folder: Path, manifest: dict, flavour: str = "exact") -> Path:
-    """Cache path keyed by robot, input hash, the C source's own hash and the flags.
+def library_path(folder: Path, manifest: dict, flavour: str = "exact", group: int = 0) -> Path:
+    """Cache path keyed by robot, input hash, the C source's own hash and the flags (and the
+    group, for a robot of several).
 
     The source hash matters for hand-made folders: C edited (and re-hashed in the manifest)
     under an unchanged input hash must not reuse the library built from the old C.
     """
     robot = manifest["robot"]
     source = f"{robot}.c" if flavour == "exact" else f"{robot}_{flavour}.c"
-    flags = exact_flags(manifest) if flavour == "exact" else SIMD_CFLAGS + (_machine_key(),)
+    flags = (exact_flags(manifest, group) if flavour == "exact"
+             else SIMD_CFLAGS + (_machine_key(),))
     key = hashlib.sha256(" ".join([*flags, manifest.get("files", {}).get(source, "")])
                          .encode()).hexdigest()[:8]
     suffix = "" if flavour == "exact" else f"-{flavour}"
+    if len(groups(manifest)) > 1:
+        suffix = f"-g{group}{suffix}"
     return cache_dir() / f"{robot}-{manifest['input_hash'][:16]}-{key}{suffix}.so"
 
 
@@ -170,28 +189,36 @@ def _prebuilt(folder: Path, path: Path) -> Path | None:
     return pre if _intact(pre) else None
 
 
-def build(folder: Path, manifest: dict, force: bool = False) -> Path:
-    """Compile ``<robot>.c`` (exact: -O3, no fast math) unless this hash is built already (at
-    install, or in the cache)."""
-    path = library_path(folder, manifest)
+def build(folder: Path, manifest: dict, force: bool = False, group: int = 0) -> Path:
+    """Compile ``<robot>.c`` (exact: -O3, no fast math), or one group of its functions,
+    unless this hash is built already (at install, or in the cache)."""
+    path = library_path(folder, manifest, group=group)
     if not force and (pre := _prebuilt(folder, path)):
         return pre
-    return compile_shared([folder / f"{manifest['robot']}.c"], path, exact_flags(manifest),
-                          force=force)
+    whole = len(groups(manifest)) == 1
+    return compile_shared([folder / f"{manifest['robot']}.c"], path,
+                          exact_flags(manifest, group), force=force,
+                          extra=() if whole else (f"-DPLANAR_SYM_GROUP={group}",))
 
 
-def build_simd(folder: Path, manifest: dict, force: bool = False) -> Path | None:
-    """Compile ``<robot>_simd.c`` (the vectorised sample loops), if the robot has one."""
+def build_simd(folder: Path, manifest: dict, force: bool = False,
+               group: int = 0) -> Path | None:
+    """Compile ``<robot>_simd.c`` (the vectorised sample loops) or one group's compile units,
+    if the robot (the group) has loops. The first unit of each library defines
+    ``PLANAR_SYM_HEAD``: it holds the library's input hash."""
     src = folder / f"{manifest['robot']}_simd.c"
-    if not src.exists():
+    units = groups(manifest)[group]["units"]
+    if not src.exists() or not units:
         return None
-    path = library_path(folder, manifest, "simd")
+    path = library_path(folder, manifest, "simd", group)
     if not force and (pre := _prebuilt(folder, path)):
         return pre
-    units = manifest.get("compile_units", {}).get("simd", [0])
+    if len(groups(manifest)) == 1 and len(units) == 1:  # the whole file
+        return compile_shared([src], path, SIMD_CFLAGS, force=force)
     return compile_shared([src], path, SIMD_CFLAGS, force=force,
-                          units=[(f"-DPLANAR_SYM_UNIT={k}",) for k in range(len(units))]
-                          if len(units) > 1 else None)
+                          units=[(f"-DPLANAR_SYM_UNIT={k}",) + (("-DPLANAR_SYM_HEAD",)
+                                                                 if i == 0 else ())
+                                 for i, k in enumerate(units)])
 
 
 _FASTCALL = None

@@ -19,24 +19,54 @@ _KINDS = {"scalar": 0, "vector": 1, "matrix": 2}
 
 def bind_fast_paths(robot) -> None:
     """Replace ``robot``'s hot methods by callers of the generated loops, where its library
-    has them (a folder derived before a loop existed keeps the Python method)."""
+    has them (a folder derived before a loop existed keeps the Python method). A loop whose
+    group is not compiled yet (a big robot's) is bound by its first call (``_OnFirstCall``)."""
     fast = fastcall()
-    if fast is None or robot.library.simd is None:
+    if fast is None or not robot.library.has_loops:
         return
     recipes = _recipes(robot.library, type(robot), robot.is_closed_chain,
                        len(robot.actuated) == robot.n)
     checked = _loops_check_inputs(robot.library)
-    for attr, (address, sizes, p_slot, outputs, names, doc) in recipes:
-        caller = fast.make(address, sizes, p_slot, outputs, robot.p, InputError, names, doc,
-                           checked)
-        setattr(robot, attr, caller)  # instance attribute: no Python frame per call
+    for attr, quantity, recipe in recipes:
+        if not robot.library.is_built(quantity):
+            setattr(robot, attr, _OnFirstCall(robot, attr, quantity, recipe, checked))
+            continue
+        address = robot.library.loop_address(quantity)
+        if address is not None:
+            setattr(robot, attr, _caller(fast, address, recipe, robot, checked))
+
+
+def _caller(fast, address: int, recipe: tuple, robot, checked: bool):
+    sizes, p_slot, outputs, names, doc = recipe
+    return fast.make(address, sizes, p_slot, outputs, robot.p, InputError, names, doc, checked)
+
+
+class _OnFirstCall:
+    """A hot method of a big robot whose loop compiles on first use: the first call compiles
+    the loop's group, puts the C-level caller in this one's place, and calls it (where the
+    loops cannot be built, the Python method takes over)."""
+
+    def __init__(self, robot, attr: str, quantity: str, recipe: tuple, checked: bool):
+        self._robot, self._attr, self._quantity = robot, attr, quantity
+        self._recipe, self._checked = recipe, checked
+        self.__doc__ = recipe[-1]
+
+    def __call__(self, *args, **kwargs):
+        robot = self._robot
+        address = robot.library.loop_address(self._quantity)
+        if address is None:  # no loops on this machine: the class's method
+            del robot.__dict__[self._attr]
+            return getattr(robot, self._attr)(*args, **kwargs)
+        caller = _caller(fastcall(), address, self._recipe, robot, self._checked)
+        setattr(robot, self._attr, caller)
+        return caller(*args, **kwargs)
 
 
 @cache
 def _recipes(library, cls, closed: bool, fully_actuated: bool) -> tuple:
-    """What each caller of a library is made from (addresses, shapes, names, docstring): the
-    same for every robot on that library, so worked out once (a sweep makes a robot per
-    design)."""
+    """What each caller of a library is made from (shapes, names, docstring; the address
+    comes from the library when it is built): the same for every robot on that library, so
+    worked out once (a sweep makes a robot per design)."""
     methods = {"mass_matrix": "mass_matrix", "bias": "bias", "gravity": "gravity",
                "tree_inverse_dynamics": "inverse_dynamics", "energy": "energy"}
     if not closed:
@@ -56,16 +86,19 @@ def _recipes(library, cls, closed: bool, fully_actuated: bool) -> tuple:
         spec = functions[quantity]
         if "loop" not in spec:  # derive makes loops only for these (codegen.LOOPED)
             continue
-        ins = [(name, size) for name, size in spec["inputs"]]
         method = getattr(cls, attr, None)
-        out.append((attr, (
-            library.loop_address(quantity),
-            tuple(size for name, size in ins if name != "p"),
+        out.append((attr, quantity, _shapes(spec, method.__doc__ if method is not None
+                                             else spec["doc"])))
+    return tuple(out)
+
+
+def _shapes(spec: dict, doc: str) -> tuple:
+    """(input sizes, the slot of p, output shapes, input names, docstring) of a loop."""
+    ins = [(name, size) for name, size in spec["inputs"]]
+    return (tuple(size for name, size in ins if name != "p"),
             [name for name, _ in ins].index("p"),
             tuple((rows, cols, _KINDS[kind]) for _, rows, cols, kind in spec["outputs"]),
-            tuple(name for name, _ in ins if name != "p"),
-            method.__doc__ if method is not None else spec["doc"])))
-    return tuple(out)
+            tuple(name for name, _ in ins if name != "p"), doc)
 
 
 def loop_caller(robot, quantity: str, doc: str = ""):
@@ -74,15 +107,13 @@ def loop_caller(robot, quantity: str, doc: str = ""):
     compiler): what a consumer above the model (identification's regressor) binds once."""
     fast = fastcall()
     spec = robot.library.manifest["functions"].get(quantity)
-    if fast is None or robot.library.simd is None or spec is None or "loop" not in spec:
+    if fast is None or not robot.library.has_loops or spec is None or "loop" not in spec:
         return None
-    ins = [(name, size) for name, size in spec["inputs"]]
-    return fast.make(robot.library.loop_address(quantity),
-                     tuple(size for name, size in ins if name != "p"),
-                     [name for name, _ in ins].index("p"),
-                     tuple((rows, cols, _KINDS[kind]) for _, rows, cols, kind in spec["outputs"]),
-                     robot.p, InputError, tuple(name for name, _ in ins if name != "p"),
-                     doc or spec["doc"], _loops_check_inputs(robot.library))
+    address = robot.library.loop_address(quantity)
+    if address is None:
+        return None
+    return _caller(fast, address, _shapes(spec, doc or spec["doc"]), robot,
+                   _loops_check_inputs(robot.library))
 
 
 def _loops_check_inputs(library) -> bool:

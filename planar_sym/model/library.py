@@ -8,7 +8,10 @@ samples, one C call); ``SingleCall`` is one sample with bound buffers, for integ
 from __future__ import annotations
 
 import ctypes
+import os
+import threading
 import warnings
+from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
 from functools import cached_property
 from pathlib import Path
@@ -17,7 +20,7 @@ import numpy as np
 
 from ..errors import InputError, LibraryError
 from .batch import FunctionSpec, shaped
-from .compile import NoCompiler, _fresh_name, build, build_simd
+from .compile import NoCompiler, _compiler, _fresh_name, build, build_simd, groups
 from .folders import builtin_generated_dirs, find_generated, read_manifest
 
 __all__ = ["BatchFunction", "CorruptLibrary", "Library", "SingleCall", "builtin_generated_dirs",
@@ -67,17 +70,43 @@ class BatchFunction:
         return shaped(self.spec, n, list(outs.values()))
 
 
-def _try_build_simd(folder: Path, manifest: dict) -> tuple[Path | None, LibraryError | None]:
+def _try_build_simd(folder: Path, manifest: dict,
+                    group: int = 0) -> tuple[Path | None, LibraryError | None]:
     """``build_simd``'s library, or the error that stopped it (the caller warns: a robot
     without its loops still works, on the exact path)."""
     try:
-        return build_simd(folder, manifest), None
+        return build_simd(folder, manifest, group=group), None
     except LibraryError as exc:
         return None, exc
 
 
+class _Functions(Mapping):
+    """A library's functions by quantity, each group compiled when one of its functions is
+    first asked for (a robot of one group is compiled when the library is made)."""
+
+    def __init__(self, library: Library):
+        self._library = library
+
+    def __getitem__(self, quantity: str) -> BatchFunction:
+        return self._library.function(quantity)
+
+    def __contains__(self, quantity) -> bool:  # without compiling
+        return quantity in self._library.manifest["functions"]
+
+    def __iter__(self):
+        return iter(self._library.manifest["functions"])
+
+    def __len__(self) -> int:
+        return len(self._library.manifest["functions"])
+
+
 class Library:
-    """A robot's compiled functions, checked against its manifest."""
+    """A robot's compiled functions, checked against its manifest.
+
+    The functions compile in groups (``compile.groups``, made by ``derive/groups.py``): a robot
+    of one group (every built-in robot, a chain of up to five links) compiles when the library
+    is made; a bigger one's groups (one function each) the first time a function is called.
+    """
 
     def __init__(self, robot: str, folder: Path | None = None):
         self.folder = folder or find_generated(robot)
@@ -85,48 +114,107 @@ class Library:
         if self.manifest.get("robot") != robot:
             raise LibraryError(f"{self.folder / 'manifest.json'} is for robot "
                                f"{self.manifest.get('robot')!r}, not {robot!r}: run `make derive`")
-        specs = {q: FunctionSpec(f["symbol"], tuple(map(tuple, f["inputs"])),
-                                 tuple(map(tuple, f["outputs"])))
-                 for q, f in self.manifest["functions"].items()}
-        # the loops compile beside the exact library: two compilers at once on a first use
-        with ThreadPoolExecutor(1) as pool:
-            simd_job = pool.submit(_try_build_simd, self.folder, self.manifest)
-            try:
-                self.path = build(self.folder, self.manifest)
-            except NoCompiler as exc:
-                if not all("casadi" in f for f in self.manifest["functions"].values()):
-                    raise  # a folder derived before the saved functions: nothing to fall back on
-                from .evaluator import CasadiFunction, no_compiler_warning
-
-                no_compiler_warning(robot, str(exc).split(" (")[0])
-                self.path, self.lib, self.simd = None, None, None
-                self.functions = {q: CasadiFunction(self.folder / self.manifest["functions"][q]
-                                                    ["casadi"], spec)
-                                  for q, spec in specs.items()}
-                return
-            finally:
-                simd_path, simd_error = simd_job.result()
+        self._specs = {q: FunctionSpec(f["symbol"], tuple(map(tuple, f["inputs"])),
+                                       tuple(map(tuple, f["outputs"])))
+                       for q, f in self.manifest["functions"].items()}
+        self.groups = groups(self.manifest)
+        self._group_of = {q: k for k, g in enumerate(self.groups) for q in g["functions"]}
+        self._built: dict[int, tuple] = {}  # group -> (exact path, exact lib, loops lib)
+        self._batch: dict[str, BatchFunction] = {}
+        self._locks = [threading.Lock() for _ in self.groups]  # one build of a group at once
+        #: group 0's libraries (a one-group robot's only ones): None until built
+        self.path, self.lib, self.simd = None, None, None
+        self.compiled = True
         try:
-            self.lib = self._load(self.path)
-        except CorruptLibrary as exc:  # truncated or overwritten cache file: build it anew
-            warnings.warn(f"compiled library {self.path} could not be loaded ({exc.reason}): "
-                          "rebuilding it", RuntimeWarning, stacklevel=2)
-            self.path = build(self.folder, self.manifest, force=True)
-            self.lib = self._load(_fresh_name(self.path), private_copy=True)
-        self.simd = None  # the vectorised sample loops, where this machine can build them
-        if simd_error is not None:
-            warnings.warn(f"{robot}: vectorised loops not built, using the exact path: "
-                          f"{simd_error}", RuntimeWarning, stacklevel=2)
-        if simd_path is not None:
+            if len(self.groups) == 1:
+                self._build(0)
+            else:
+                _compiler()  # a missing compiler shows now, not at a later first call
+        except NoCompiler as exc:
+            if not all("casadi" in f for f in self.manifest["functions"].values()):
+                raise  # a folder derived before the saved functions: nothing to fall back on
+            from .evaluator import CasadiFunction, no_compiler_warning
+
+            no_compiler_warning(robot, str(exc).split(" (")[0])
+            self.compiled = False
+            self.functions = {q: CasadiFunction(self.folder / self.manifest["functions"][q]
+                                                ["casadi"], spec)
+                              for q, spec in self._specs.items()}
+            return
+        self.functions = _Functions(self)
+
+    def function(self, quantity: str) -> BatchFunction:
+        """One generated function over N samples, its group compiled if it is not yet."""
+        if quantity not in self._batch:
+            self._build(self._group_of[quantity])
+        return self._batch[quantity]
+
+    def exact_path(self, quantity: str) -> Path:
+        """The exact library holding ``quantity`` (its group compiled if it is not yet)."""
+        return self._build(self._group_of[quantity])[0]
+
+    def is_built(self, quantity: str) -> bool:
+        """Whether ``quantity``'s group is compiled and loaded (no compiling to find out)."""
+        return self._group_of.get(quantity) in self._built
+
+    @property
+    def has_loops(self) -> bool:
+        """Whether vectorised loops are there to call: a one-group robot's were built (or not)
+        with it; a bigger robot's are built with each group (``loop_address`` says)."""
+        return self.compiled and (self.simd is not None if len(self.groups) == 1 else True)
+
+    def _build(self, group: int) -> tuple:
+        """Compile (or find in the cache) and load one group's libraries: the exact functions
+        and, beside them in parallel, the vectorised loops."""
+        if group in self._built:
+            return self._built[group]
+        with self._locks[group]:
+            if group in self._built:
+                return self._built[group]
+            robot = self.manifest["robot"]
+            with ThreadPoolExecutor(1) as pool:
+                simd_job = pool.submit(_try_build_simd, self.folder, self.manifest, group)
+                try:
+                    path = build(self.folder, self.manifest, group=group)
+                finally:
+                    simd_path, simd_error = simd_job.result()
             try:
-                self.simd = self._load(simd_path, f"{robot}_simd_input_hash")
-            except CorruptLibrary as exc:
-                warnings.warn(f"compiled library {simd_path} could not be loaded "
-                              f"({exc.reason}): rebuilding it", RuntimeWarning, stacklevel=2)
-                simd_path = build_simd(self.folder, self.manifest, force=True)
-                self.simd = self._load(_fresh_name(simd_path), f"{robot}_simd_input_hash",
-                                       private_copy=True)
-        self.functions = {q: BatchFunction(self.lib, spec) for q, spec in specs.items()}
+                lib = self._load(path)
+            except CorruptLibrary as exc:  # truncated or overwritten cache file: build anew
+                warnings.warn(f"compiled library {path} could not be loaded ({exc.reason}): "
+                              "rebuilding it", RuntimeWarning, stacklevel=3)
+                path = build(self.folder, self.manifest, force=True, group=group)
+                lib = self._load(_fresh_name(path), private_copy=True)
+            simd = None  # the vectorised sample loops, where this machine can build them
+            if simd_error is not None:
+                warnings.warn(f"{robot}: vectorised loops not built, using the exact path: "
+                              f"{simd_error}", RuntimeWarning, stacklevel=3)
+            if simd_path is not None:
+                try:
+                    simd = self._load(simd_path, f"{robot}_simd_input_hash")
+                except CorruptLibrary as exc:
+                    warnings.warn(f"compiled library {simd_path} could not be loaded "
+                                  f"({exc.reason}): rebuilding it", RuntimeWarning, stacklevel=3)
+                    simd_path = build_simd(self.folder, self.manifest, force=True, group=group)
+                    simd = self._load(_fresh_name(simd_path), f"{robot}_simd_input_hash",
+                                      private_copy=True)
+            for q in self.groups[group]["functions"]:
+                self._batch[q] = BatchFunction(lib, self._specs[q])
+            self._built[group] = (path, lib, simd)
+            if group == 0:
+                self.path, self.lib, self.simd = path, lib, simd
+            return self._built[group]
+
+    def build_all(self) -> None:
+        """Compile every group now (``planar-sym build``, ``make build``): the groups side by
+        side, the biggest first (``compile``'s semaphore holds the compilers to the cores)."""
+        if not self.compiled:
+            return
+        functions = self.manifest["functions"]
+        order = sorted(range(len(self.groups)), key=lambda k: -sum(
+            functions[q].get("operations", 0) for q in self.groups[k]["functions"]))
+        with ThreadPoolExecutor(max(1, min(len(order), os.cpu_count() or 1))) as pool:
+            list(pool.map(self._build, order))  # re-raises the first failure
 
     @property
     def is_builtin(self) -> bool:
@@ -183,25 +271,24 @@ class Library:
                              "for CasADi: derive it again (`make derive`, or planar-sym derive)")
         return ca.Function.load(str(self.folder / saved))
 
-    @property
-    def compiled(self) -> bool:
-        """False where no C compiler was at hand: CasADi's evaluator runs the functions."""
-        return self.lib is not None
-
     def address(self, quantity: str) -> int:
         """Address of ``<robot>_<quantity>_batch`` in the exact library (for C callers); with
         CasADi's evaluator, a callback of the same signature."""
-        if self.lib is None:
+        if not self.compiled:
             return self.functions[quantity].address
+        _, lib, _ = self._build(self._group_of[quantity])
         symbol = self.manifest["functions"][quantity]["symbol"] + "_batch"
-        return ctypes.cast(getattr(self.lib, symbol), ctypes.c_void_p).value
+        return ctypes.cast(getattr(lib, symbol), ctypes.c_void_p).value
 
     def loop_address(self, quantity: str) -> int | None:
         """Address of ``<robot>_<quantity>_loop`` (vectorised), or None without the library."""
         spec = self.manifest["functions"][quantity]
-        if self.simd is None or "loop" not in spec:
+        if not self.compiled or "loop" not in spec:
             return None
-        return ctypes.cast(getattr(self.simd, spec["loop"]), ctypes.c_void_p).value
+        _, _, simd = self._build(self._group_of[quantity])
+        if simd is None:
+            return None
+        return ctypes.cast(getattr(simd, spec["loop"]), ctypes.c_void_p).value
 
     def _load(self, path: Path, hash_symbol: str | None = None,
               private_copy: bool = False) -> ctypes.CDLL:
