@@ -333,3 +333,26 @@ def test_an_event_past_at_the_start_fires_again_after_it_recovers():
     assert len(times["dopri5"]) == len(times["cvodes"]) == 2
     # the output grid's linear interpolation against the compiled loop's located event
     assert abs(times["cvodes"][1] - times["dopri5"][1]) < 0.01
+
+
+def test_a_stop_is_a_python_bool_on_every_route():
+    """``Event.stopped`` was a NumPy bool on the SUNDIALS route (``tt == min(stops)`` of
+    NumPy times) and a Python bool on the compiled one: ``e.stopped is True`` told them apart.
+    The same stop on both routes, at the same time to the output grid's spacing."""
+    from planar_sym.study.motion import joint_motion
+    from planar_sym.study.run import load_study
+
+    robot = ps.load("serial_2dof")
+    jt, _ = joint_motion(load_study("serial_2dof_joint_move"), robot)
+    ctl = ps.controller("pd", 400.0, 40.0, width=2)
+    stops = {}
+    for method in ("dopri5", "cvodes"):
+        run = ps.simulate_controlled(robot, ctl, (0.0, float(jt.t_s[-1])), reference=jt,
+                                     joint_limits={"joint1": (-10.0, float(jt.q[0, 0]) + 0.1)},
+                                     method=method,
+                                     t_eval=np.linspace(0.0, float(jt.t_s[-1]), 401))
+        assert all(type(e.stopped) is bool for e in run.events), method
+        stops[method] = run.stopped
+    assert stops["dopri5"] is not None and stops["cvodes"] is not None
+    assert stops["dopri5"].stopped is True and stops["cvodes"].stopped is True
+    assert abs(stops["dopri5"].time_s - stops["cvodes"].time_s) < 0.01

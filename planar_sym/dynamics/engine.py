@@ -154,8 +154,9 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         if stops:  # the run ends at the last sample before the first stop event
             keep = t_out < min(stops)
             ys, t_out = ys[keep], t_out[keep]
-        events = [Event(specs[k].name, float(tt), bool(stops) and specs[k].stop
-                        and tt == min(stops)) for k, tt in found if not stops or tt <= min(stops)]
+        events = [Event(specs[k].name, float(tt), bool(stops and specs[k].stop
+                                                      and tt == min(stops)))
+                  for k, tt in found if not stops or tt <= min(stops)]
     elif method == "dopri5":
         ys, t_out, n_rhs, drift, loop_event = _dopri5(robot, plant, setup, y0, t, rtol, atol,
                                                       max_steps)
