@@ -39,7 +39,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import TEST_ROBOTS
+from conftest import ROOT, TEST_ROBOTS
 
 import planar_sym as ps
 from planar_sym.errors import InputError, SimulationError
@@ -189,7 +189,10 @@ def test_a_constant_vector_against_dopri5_and_the_work(arm, arm_reference, metho
     err = state_error(run, arm_reference)
     print(f"\n{method}: |q, qd - dopri5| {err:.2g}, energy - work {balance:.2g} J")
     assert err < AGREE and balance < BALANCE
-    assert run.controller is None and run.work_j is None  # an open-loop run
+    assert run.controller is None  # an open-loop run
+    # the engine integrates the work beside the state: tau . (q - q0), no friction
+    assert np.max(np.abs(run.work_j - work)) < BALANCE
+    assert np.all(run.friction_j == 0.0) and run.balance_residual < 1e-9
 
 
 def test_a_torque_function_is_for_scipy_not_the_engine(arm, arm_reference):
@@ -424,14 +427,37 @@ def test_a_closed_chain_under_rk45(five):
 @pytest.mark.parametrize("method", ["cvodes", "idas"])
 def test_an_open_loop_run_in_the_engine_has_no_control_fields(arm, method):
     """An open-loop run through the engine is the same type as a controlled one, without the
-    control fields: no reference, command, work, friction or controller (None), and the same
-    columns as the C integrator's run of the same swing (whose values it matches to 1e-6)."""
+    control fields: no reference, command or controller (None); its work and friction
+    integrals are kept (zero: no torque, no friction), and its columns are those of the C
+    integrator's free run of the same swing (whose values it matches to 1e-6)."""
     q0 = np.radians([-60.0, 0.0])
     t = np.linspace(0.0, 0.5, 51)
     run = ps.simulate(arm, q0, [0.0, 0.0], (0.0, 0.5), t_eval=t, method=method, rtol=1e-10,
                       atol=1e-12)
     ref = ps.simulate(arm, q0, [0.0, 0.0], (0.0, 0.5), t_eval=t, rtol=1e-12, atol=1e-14)
-    for name in ("q_ref", "qd_ref", "tau_cmd", "work_j", "friction_j", "controller"):
+    for name in ("q_ref", "qd_ref", "tau_cmd", "controller"):
         assert getattr(run, name) is None, name
+    assert np.all(run.work_j == 0.0) and np.all(run.friction_j == 0.0)
     assert list(run.columns()) == list(ref.columns())
     assert np.max(np.abs(run.q - ref.q)) < 1e-6
+
+
+def test_a_rubbing_robot_s_free_run_balances_its_energy():
+    """A geared arm whose joints rub (viscous 0.001 N*m*s/rad, Coulomb 0.005 N*m): its open-loop
+    run integrates the friction loss with the state on dopri5 (the engine) and on cvodes, so
+    E(t) - E(0) = W(t) - F(t) holds to the integrators' accuracy (before, dopri5's run had no
+    friction integral and the balance could not be checked). The two integrators agree on the
+    loss, which grows and ends positive."""
+    robot = ps.load(str(ROOT / "examples" / "serial_2dof_geared.toml"))
+    assert robot.has_friction
+    t = np.linspace(0.0, 1.0, 101)
+    runs = {m: ps.simulate(robot, [-1.0, 0.5], [0.0, 0.0], (0.0, 1.0), t_eval=t,
+                           torque=[0.02, -0.01], method=m, rtol=1e-10, atol=1e-12)
+            for m in ("dopri5", "cvodes")}
+    for m, run in runs.items():
+        assert run.balance_residual < 1e-7, m
+        assert np.all(np.diff(run.friction_j) >= 0) and run.friction_j[-1] > 1e-4, m
+        # constant torques: the work integral is tau . (q - q0)
+        np.testing.assert_allclose(run.work_j, (run.q - run.q[0]) @ [0.02, -0.01], atol=1e-8)
+    np.testing.assert_allclose(runs["dopri5"].friction_j, runs["cvodes"].friction_j,
+                               rtol=1e-5, atol=1e-9)

@@ -238,7 +238,8 @@ def test_open_loop_and_controlled_runs_are_one_type(rpr_runs):
     _, free, run, ref = rpr_runs
     assert ControlledRun is Simulation and type(free) is type(run) is Simulation
     assert not free.controlled and run.controlled
-    assert free.q_ref is None and free.error is None and free.balance_residual is None
+    assert free.q_ref is None and free.error is None
+    assert free.balance_residual < 1e-8  # energy gained = tau . (q - q0), exactly the work
     assert free.stopped is None and run.stopped is None
     assert run.balance_residual < 1e-9
     assert np.array_equal(run.error, run.q_ref - run.q)
@@ -246,7 +247,7 @@ def test_open_loop_and_controlled_runs_are_one_type(rpr_runs):
     base = ["t_s", "q1_rad", "q2_m", "q3_rad", "qd1_rad_s", "qd2_m_s", "qd3_rad_s"]
     taus = ["tau1_n_m", "tau2_n", "tau3_n_m"]
     energies = ["kinetic_j", "potential_j", "energy_j"]
-    assert list(free.columns()) == base + taus + energies
+    assert list(free.columns()) == base + taus + energies + ["work_j", "friction_j"]
     assert list(run.columns()) == (base + ["q1_ref_rad", "q2_ref_m", "q3_ref_rad",
                                            "qd1_ref_rad_s", "qd2_ref_m_s", "qd3_ref_rad_s",
                                            "tau_cmd1_n_m", "tau_cmd2_n", "tau_cmd3_n_m"]
@@ -283,7 +284,10 @@ def test_sundials_open_loop_has_the_columns_of_any_open_loop_run():
                         method=m) for m in ("dopri5", "cvodes")]
     assert [type(r) for r in runs] == [Simulation, Simulation]
     assert list(runs[0].columns()) == list(runs[1].columns())
-    assert runs[1].controller is None and runs[1].work_j is None and runs[1].tau_cmd is None
+    assert runs[1].controller is None and runs[1].tau_cmd is None
+    # the engine's work integral and the free path's exact tau . (q - q0) (constant torque)
+    np.testing.assert_allclose(runs[1].work_j, runs[0].work_j, atol=1e-8)
+    assert runs[0].work_j[-1] != 0.0 and np.all(runs[0].friction_j == 0.0)
     np.testing.assert_allclose(runs[1].q, runs[0].q, atol=1e-7)
 
 

@@ -84,7 +84,10 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     Returns
     -------
     Simulation
-        ``t_s`` (N,), ``q``, ``qd`` (N, n), torques and energies (J) per sample.
+        ``t_s`` (N,), ``q``, ``qd`` (N, n), torques and energies (J) per sample; on the
+        engine's routes (SUNDIALS, a table of torques, and dopri5 on a robot whose actuators
+        rub) also ``work_j`` and ``friction_j``, the actuators' work and the friction loss
+        integrated with the state, so ``balance_residual`` checks the energy balance.
 
     Raises
     ------
@@ -103,7 +106,10 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     t = time_grid(t_span, t_eval)
     torque = check_torque(torque, len(robot.actuated))  # one rule for every route below
     table = isinstance(torque, Signal)  # evaluated in C by the engine; in Python by SciPy
-    engine = method in ("cvodes", "idas") or (method == "dopri5" and table)
+    # the engine also integrates the actuators' work and friction loss beside the state: a
+    # rubbing robot's dopri5 run goes there, so its energy balance can be checked
+    engine = method in ("cvodes", "idas") or (method == "dopri5"
+                                              and (table or robot.has_friction))
     if table and not engine:
         signal = torque
 
@@ -113,6 +119,19 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
     if engine:
         return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, project)
+    run = _outside_the_engine(robot, q0, qd0, torque, tau_of, t, rtol, atol, method, max_steps,
+                              project)
+    if callable(torque) or robot.has_friction:  # SciPy integrates the state alone
+        return run
+    # constant torques and no friction: the work is tau . (q - q0) exactly, the friction loss
+    # zero, as the engine's integrals give
+    tau = tau_of(t[0])
+    return replace(run, work_j=(run.q - run.q[0]) @ tau, friction_j=np.zeros(len(run.t_s)))
+
+
+def _outside_the_engine(robot: Robot, q0, qd0, torque, tau_of, t, rtol, atol, method: str,
+                        max_steps: int, project: bool) -> Simulation:
+    """The free C dopri5, SciPy's methods, or a closed chain's segments."""
     if robot.is_closed_chain:
         from .forward_closed import DRIFT_LIMIT_M, SEGMENT_S, run_closed
 
@@ -201,6 +220,7 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
     if not robot.is_closed_chain:  # a tree's torques on every coordinate, 0 at a passive one
         tau = np.zeros((len(run.t_s), n))
         tau[:, act] = run.tau
-    # the same type as the engine's: an open-loop run, so without the control fields
+    # the same type as the engine's: an open-loop run, so without the control fields (its
+    # work and friction integrals kept: the energy balance of the run)
     return replace(run, tau=tau, initial_correction_rad=correction, q_ref=None, qd_ref=None,
-                   tau_cmd=None, work_j=None, friction_j=None, controller=None)
+                   tau_cmd=None, controller=None)

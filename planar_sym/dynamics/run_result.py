@@ -60,8 +60,9 @@ class Simulation:
     tau_cmd : ndarray, shape (N, actuated), or None
         Controlled runs: the commanded torques, before saturation (N*m; N at a slider).
     work_j, friction_j : ndarray, shape (N,), or None
-        Controlled runs: the actuators' work int tau . qd dt and the friction loss
-        int D(qd) . qd dt since the start, both integrated with the state (J).
+        The actuators' work int tau . qd dt and the friction loss int D(qd) . qd dt since the
+        start, both integrated with the state (J): every run of the engine (controlled runs,
+        SUNDIALS, tables of torques, dopri5 on a robot whose actuators rub).
     controller : Controller or None
         Controlled runs: the control law and gains that ran.
     events : tuple of Event
@@ -131,7 +132,7 @@ class Simulation:
                     for col, k in enumerate(idx)]
         out += [Series("kinetic", "J", self.kinetic_j), Series("potential", "J", self.potential_j),
                 Series("energy", "J", self.energy_j)]
-        if self.controlled:
+        if self.work_j is not None and self.friction_j is not None:
             out += [Series("work", "J", self.work_j), Series("friction", "J", self.friction_j)]
         return select(out, quantity, index, joint)
 
@@ -204,8 +205,8 @@ class Simulation:
     def balance_residual(self) -> float | None:
         """max |E(t) - E(0) - (W(t) - F(t))| over the run, relative to the largest of |E|,
         |W| and |F| (J/J): the energy the actuators put in, less friction, is what the robot
-        gained, up to the integrator's accuracy. None for an open-loop run (no work
-        integrals)."""
+        gained, up to the integrator's accuracy. None for a run without work integrals (an
+        open-loop run on SciPy's methods, or dopri5's free run of a robot without friction)."""
         if self.work_j is None or self.friction_j is None:
             return None
         e = self.energy_j - self.energy_j[0]

@@ -218,7 +218,12 @@ def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
              else "energy drift")
     if s.torque is not None:
         drift = "energy change (the input torques do work)"
-    note = (f"{_coordinates_note(robot)}; {drift} {sim.energy_drift:.2e} (relative), "
+    balance = ""
+    if sim.balance_residual is not None and (robot.has_friction or s.torque is not None):
+        # what the change should be: the work put in less the friction loss, both integrated
+        balance = (f"; energy balance E - E0 - (W - F) {sim.balance_residual:.2e} (relative; "
+                   f"friction loss {sim.friction_j[-1]:.3g} J)")
+    note = (f"{_coordinates_note(robot)}; {drift} {sim.energy_drift:.2e} (relative){balance}, "
             f"{sim.method} rtol {sim.rtol:g}{inputs}")
     split = {}
     if not robot.is_closed_chain and s.torque is None:
