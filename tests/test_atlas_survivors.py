@@ -337,3 +337,61 @@ def test_a_singular_drawn_tree_is_bent_from_its_drawn_angles(monkeypatch):
     np.testing.assert_array_equal(q, [0.3, np.pi + np.radians(30.0)])
     assert note.startswith("the drawn configuration is singular: started from it with joints b "
                            "bent by 30 deg")
+
+
+# -- atlas.py ----------------------------------------------------------------------------------
+
+def _atlas_module():
+    import planar_sym.analysis.atlas as atlas_module
+
+    return atlas_module
+
+
+def test_the_arms_gravity_map_is_its_inverse_dynamics_beside_a_singular_cell():
+    """The bug the first run's survivors led to: an odd grid centred on serial_2dof's shoulder
+    (the default grid is one, 101 points) reaches the folded pose at the origin, where J is
+    singular and the envelope is ~1e14 N*m; the rounding rule compared the largest gravity
+    torque (0.39 N*m) with 1e-12 x that largest envelope and mapped both joints' gravity as 0
+    everywhere. The gravity map must be the arm's inverse dynamics at rest, tau(q, 0, 0), at
+    every reached cell, and the summary's peak its largest |tau|."""
+    robot = ps.load("serial_2dof")
+    a = _atlas_module().atlas(robot, points=9, q_start=[0.0, np.radians(60.0)])
+    r = a.reachable[0]
+    assert r[4, 4] and a.x_m[4] == 0.0 and a.y_m[4] == 0.0  # the origin, reached folded
+    assert np.min(a.envelope[0, 4, 4]) > 1e10
+    q = a.q[0][r]
+    tau = robot.inverse_dynamics(q, 0 * q, 0 * q)
+    assert np.abs(tau[:, 0]).max() > 0.3 and np.abs(tau[:, 1]).max() > 0.02
+    np.testing.assert_allclose(a.gravity[0][r], tau, rtol=0, atol=1e-12)
+    assert np.all(np.isnan(a.gravity[0][~r]))
+    np.testing.assert_allclose(a.summary()["peak_gravity"], np.abs(tau).max(axis=0), rtol=1e-12)
+
+
+def test_the_rounding_rule_is_cell_by_cell_and_inclusive(monkeypatch):
+    """A joint's gravity is mapped as 0 when at every cell |g| <= ROUNDING |envelope|
+    (ROUNDING = 1e-12), and kept as computed otherwise; a stand-in for rest_torques gives three
+    reached cells of serial_3dof these torques (N*m) by hand, the fourth row unreached:
+
+    .. code:: text
+
+        joint 1: g (1e-12, -5e-13, 0),  envelope (1, 1, 2)     -> 0 (1e-12 <= 1e-12: at most)
+        joint 2: g (2e-13, 0.3, -0.1),  envelope (0.1, 1e14, 1) -> kept (2e-13 > 1e-13 at cell 1,
+                 though 0.3 is below 1e-12 x the largest envelope: cell by cell, not peaks)
+        joint 3: g (5e-13, 0, 0),       envelope (10, 10, 10)   -> 0 (5e-13 <= 1e-11)"""
+    mod = _atlas_module()
+    assert mod.ROUNDING == 1e-12
+    G = np.array([[1e-12, 2e-13, 5e-13], [-5e-13, 0.3, 0.0], [0.0, -0.1, 0.0]])
+    E = np.array([[1.0, 0.1, 10.0], [1.0, 1e14, 10.0], [2.0, 1.0, 10.0]])
+
+    def stand_in(robot, q, accel):
+        assert len(q) == 3 and accel == 1.0
+        return {"gravity": G.copy(), "envelope": E.copy(), "envelope_angle_rad": np.zeros((3, 3))}
+
+    monkeypatch.setattr(mod, "rest_torques", stand_in)
+    robot = ps.load("serial_3dof")
+    q = np.array([[0.1, 0.5, 0.5], [0.2, 0.6, 0.4], [0.3, 0.7, 0.3], [np.nan] * 3])
+    out = mod._maps(robot, q, 0.2, 1.0, q[0])
+    want = np.array([[0.0, 2e-13, 0.0], [0.0, 0.3, 0.0], [0.0, -0.1, 0.0], [np.nan] * 3])
+    np.testing.assert_array_equal(out["gravity"], want)
+    np.testing.assert_array_equal(out["envelope"][:3], E)
+    assert np.all(np.isnan(out["envelope"][3])) and list(out["reachable"]) == [True] * 3 + [False]

@@ -338,13 +338,16 @@ def _maps(robot: Robot, q: np.ndarray, L: float, accel: float, q_ref: np.ndarray
             values[rows] = found[k]
         if progress is not None:
             progress(min(lo + CHUNK, len(idx)), len(idx))
-    # a joint whose gravity torque is rounding next to its own envelope (a wrist with its
-    # centre of gravity on its axis: +-6e-16 N*m against 0.06) holds none: 0, not noise drawn
-    # as a full colour map and printed as a peak
+    # a joint whose gravity torque is rounding next to its own envelope at every cell (a wrist
+    # with its centre of gravity on its axis: +-6e-16 N*m against 0.06) holds none: 0, not
+    # noise drawn as a full colour map and printed as a peak. Cell by cell, not the largest
+    # gravity against the largest envelope: near a Type I singular pose the envelope grows
+    # without bound (1e14 N*m at the 2-link arm's folded pose, a cell of its default grid),
+    # which made every joint's gravity look like rounding and mapped it as 0 everywhere
     with np.errstate(invalid="ignore"):
         for k in range(na):
             g, env = np.abs(out["gravity"][:, k]), np.abs(out["envelope"][:, k])
-            if np.nanmax(g, initial=0.0) <= ROUNDING * np.nanmax(env, initial=0.0):
+            if not np.any(g > ROUNDING * env):  # NaN cells (unreached, singular) compare False
                 out["gravity"][:, k] = np.where(np.isfinite(g), 0.0, np.nan)
     ref = np.sign(pose_measures(robot, q_ref[None], L)["det_type2"][0])
     same = reach & (np.sign(out["det_type2"]) == ref)
