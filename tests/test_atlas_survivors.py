@@ -395,3 +395,230 @@ def test_the_rounding_rule_is_cell_by_cell_and_inclusive(monkeypatch):
     np.testing.assert_array_equal(out["gravity"], want)
     np.testing.assert_array_equal(out["envelope"][:3], E)
     assert np.all(np.isnan(out["envelope"][3])) and list(out["reachable"]) == [True] * 3 + [False]
+
+
+def test_an_atlas_carries_its_region_names_start_and_time():
+    """serial_2dof (two 0.1 m links) from q = (0, 60 deg): the reach box is 1.05 x 0.2 m about
+    the shoulder, the task (x, y), no loop equations and no note (the start is given); the
+    start pose as lines: link1 from the origin to (0.1, 0), link2 from there to the tip
+    (0.1 + 0.1 cos 60 deg, 0.1 sin 60 deg); the time is the call's own, in seconds."""
+    import time
+
+    t0 = time.perf_counter()
+    a = _atlas_module().atlas("serial_2dof", points=9, q_start=[0.0, np.radians(60.0)])
+    took = time.perf_counter() - t0
+    assert a.reach_box_m == pytest.approx((-0.21, 0.21, -0.21, 0.21), rel=1e-14)
+    assert a.task_names == ("x", "y") and a.n_constraints == 0 and a.start_note == ""
+    assert a.coordinates == ("joint1", "joint2") and a.length_unit == "m"
+    tip = [0.1 + 0.1 * np.cos(np.pi / 3), 0.1 * np.sin(np.pi / 3)]
+    d = a.start_drawing
+    assert sorted(d) == ["bodies", "ground", "joints", "task"] and len(d["bodies"]) == 2
+    np.testing.assert_allclose(d["bodies"][0], [[0.0, 0.0], [0.1, 0.0]], rtol=0, atol=1e-16)
+    np.testing.assert_allclose(d["bodies"][1], [[0.1, 0.0], tip], rtol=0, atol=1e-16)
+    np.testing.assert_array_equal(d["ground"], [[0.0, 0.0]])
+    np.testing.assert_allclose(d["task"], tip, rtol=0, atol=1e-16)
+    assert 0.0 < a.time_s <= took and a.summary()["time_s"] == a.time_s
+
+
+def test_a_five_bars_atlas_and_its_assembly_mode_in_closed_form():
+    """five_bar_type1 (one loop: 2 loop equations): a reached cell is in the start pose's
+    assembly mode when (C - B) x (D - C), a fixed multiple of det Phi_p (tests/test_atlas.py),
+    has the start pose's sign; its default 12 x 12 grid reaches cells of both modes."""
+    from test_atlas import cross, five_bar_points, geometry
+
+    a = _atlas_module().atlas("five_bar_type1", points=12)
+    assert a.n_constraints == 2 and a.task_names == ("x", "y")
+    g = geometry("five_bar_type1")
+    _, B, C, D, _, _ = five_bar_points(a.q, g)
+    _, B0, C0, D0, _, _ = five_bar_points(a.start_pose, g)
+    with np.errstate(invalid="ignore"):
+        same = a.reachable & (np.sign(cross(C - B, D - C)) == np.sign(cross(C0 - B0, D0 - C0)))
+    assert same.sum() > 10 and (a.reachable & ~same).sum() > 3
+    np.testing.assert_array_equal(a.same_assembly, same)
+
+
+def test_the_start_note_and_the_orientation_reach_the_atlas():
+    """serial_3dof's drawn pose is stretched (singular): the atlas starts from it with joints 2
+    and 3 bent by 30 deg and says so; its one orientation is that pose's, 0 + 30 + 30 deg."""
+    a = _atlas_module().atlas("serial_3dof", points=12)
+    np.testing.assert_allclose(a.start_pose, np.radians([0.0, 30.0, 30.0]), rtol=1e-15)
+    assert a.start_note == ("the drawn configuration is singular: started from it with joints "
+                            "joint2, joint3 bent by 30 deg (give q_start for another working "
+                            "mode)")
+    assert a.task_names == ("x", "y", "phi") and a.n_constraints == 0
+    np.testing.assert_allclose(a.phi_rad, [np.radians(60.0)], rtol=1e-15)
+
+
+def test_an_atlas_of_a_robot_typed_in_cm_says_cm(tmp_path):
+    """serial_2dof typed in cm: the same robot, so the same grid in m; its maps' axes in cm."""
+    from conftest import serial_2dof_in_cm
+
+    a = _atlas_module().atlas(ps.load(str(serial_2dof_in_cm(tmp_path))), points=9,
+                              q_start=[0.0, np.radians(60.0)])
+    assert a.length_unit == "cm"
+    np.testing.assert_allclose(a.x_m, np.linspace(-0.21, 0.21, 9), rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("accel", [0.0, 0.5, 2.5])
+def test_the_envelope_is_the_worst_direction_of_the_acceleration_given(accel):
+    """At each reached cell of serial_2dof the envelope is max over unit u of
+    |tau(q, 0, J^-1 a u)|, found here by brute force over 3600 directions from the robot's
+    own inverse dynamics (not the atlas's rest_torques); 0 m/s^2 is allowed (then it is
+    |gravity|), and 0.5 and 2.5 m/s^2 scale its acceleration part."""
+    robot = ps.load("serial_2dof")
+    a = _atlas_module().atlas(robot, points=10, q_start=[0.0, np.radians(60.0)],
+                              accel_m_s2=accel)
+    assert a.accel_m_s2 == accel
+    r = a.reachable[0]
+    q = a.q[0][r]
+    J = robot.task(q)[1]
+    g = robot.inverse_dynamics(q, 0 * q, 0 * q)
+    qdd = [np.linalg.solve(J, np.tile(e, (len(q), 1))[..., None])[..., 0]
+           for e in ([1.0, 0.0], [0.0, 1.0])]  # unit task accelerations along x, along y
+    cols = [robot.inverse_dynamics(q, 0 * q, d) - g for d in qdd]
+    th = np.linspace(0.0, 2 * np.pi, 3600, endpoint=False)
+    tau = g[..., None] + accel * (cols[0][..., None] * np.cos(th)
+                                  + cols[1][..., None] * np.sin(th))
+    brute = np.abs(tau).max(axis=-1)
+    np.testing.assert_allclose(a.envelope[0][r], brute, rtol=1e-6, atol=0)
+    assert np.all(a.envelope[0][r] >= brute * (1 - 1e-14))
+    if accel == 0.0:
+        np.testing.assert_array_equal(a.envelope[0][r], np.abs(a.gravity[0][r]))
+
+
+def test_the_summarys_thresholds_are_where_the_docs_put_them():
+    """Regular cells have type2 >= REGULAR (0.1) and, for the envelope, type1 >= REGULAR_TYPE1
+    (0.01); near a Type II singularity is type2 < NEAR_TYPE2 (0.01): a cell exactly on each
+    threshold, by hand (the 1 x 2 x 3 atlas of tests/test_analysis_survivors.py, cell (0, 2)
+    out of reach):
+
+    .. code:: text
+
+        type2   0.1   0.5   -        type1  0.01  0.005  -      |gravity 1|  9  3  -
+                0.01  0.005 0.5             0.5   0.5    0.5                 2  5  0.5
+
+    regular: (0, 0), (0, 1), (1, 2): peak gravity 9 (3 without the cell on 0.1); the
+    envelope's (0, 0), (1, 2): peak 20 (1 without the cell on 0.01); near: 0.005 only, 1 of 5."""
+    from test_analysis_survivors import hand_atlas
+
+    mod = _atlas_module()
+    assert (mod.REGULAR, mod.REGULAR_TYPE1, mod.NEAR_TYPE2) == (0.1, 0.01, 0.01)
+    nan = np.nan
+    base = hand_atlas()
+    grav, env = base.gravity.copy(), base.envelope.copy()
+    grav[0, 0, :, 0] = [-9.0, 3.0, nan]
+    env[0, 0, :, 0] = [20.0, 6.0, nan]
+    s = hand_atlas(type2=np.array([[[0.1, 0.5, nan], [0.01, 0.005, 0.5]]]),
+                   type1=np.array([[[0.01, 0.005, nan], [0.5, 0.5, 0.5]]]),
+                   gravity=grav, envelope=env).summary()
+    assert s["peak_gravity_regular"][0] == 9.0
+    assert s["peak_envelope_regular"][0] == 20.0
+    assert s["type2_near_fraction"] == pytest.approx(0.2, rel=1e-15)
+
+
+def test_an_atlas_with_no_reached_cell_summarises_without_warnings():
+    """No reached cell: the dexterity figures and the Type II fraction are NaN, said by no
+    numpy warning (a median or mean of nothing warns 'Mean of empty slice')."""
+    import warnings
+
+    from test_analysis_survivors import hand_atlas
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = hand_atlas(reachable=np.zeros((1, 2, 3), bool)).summary()
+    assert np.isnan(s["worst_dexterity"]) and np.isnan(s["median_dexterity"])
+    assert np.isnan(s["type2_near_fraction"]) and np.isnan(s["peak_gravity"]).all()
+
+
+def test_the_table_of_two_orientations_by_hand():
+    """Two orientations (0 and 90 deg) of the 1 x 2 x 3 atlas: rows go orientation slowest,
+    then y, then x: x (0, 100, 200) mm four times, y (0, 0, 0, 50, 50, 50) mm twice, phi 0 then
+    90 deg; the second layer's dexterity is the first's halved."""
+    from test_analysis_survivors import hand_atlas
+
+    base = hand_atlas()
+
+    def two(v):
+        return np.concatenate([v, v])
+
+    a = hand_atlas(phi_rad=np.array([0.0, np.pi / 2]), q=two(base.q),
+                   reachable=two(base.reachable), same_assembly=two(base.same_assembly),
+                   det_type1=two(base.det_type1), det_type2=two(base.det_type2),
+                   type1=two(base.type1), type2=two(base.type2),
+                   dexterity=np.concatenate([base.dexterity, base.dexterity / 2]),
+                   gravity=two(base.gravity), envelope=two(base.envelope),
+                   envelope_angle_rad=two(base.envelope_angle_rad))
+    names, values = a.table()
+    assert names[:5] == ["x_mm", "y_mm", "phi_deg", "reachable", "same_assembly"]
+    np.testing.assert_allclose(values[:, 0], [0, 100, 200] * 4, rtol=1e-15)
+    np.testing.assert_allclose(values[:, 1], [0, 0, 0, 50, 50, 50] * 2, rtol=1e-15)
+    np.testing.assert_allclose(values[:, 2], [0.0] * 6 + [90.0] * 6, rtol=1e-15)
+    d = [0.4, 0.1, np.nan, 0.3, 0.2, 0.9]
+    np.testing.assert_array_equal(values[:, names.index("dexterity")], d + [v / 2 for v in d])
+
+
+def test_the_csv_text_by_hand(tmp_path):
+    """The CSV's numbers as printf's %.10g writes them (lower-case e, nan), the first row of
+    the 1 x 2 x 3 atlas by hand, and read back as the table."""
+    from test_analysis_survivors import hand_atlas
+
+    from planar_sym.analysis.atlas import write_csv
+
+    dex = hand_atlas().dexterity.copy()
+    dex[0, 0, 0] = 1.25e-05
+    a = hand_atlas(dexterity=dex)
+    write_csv(a, tmp_path / "a.csv")
+    lines = (tmp_path / "a.csv").read_text().splitlines()
+    assert lines[1] == "0,0,1,1,0,0,0.5,0.5,1.25e-05,1,1,1,2,0,nan,1,0"
+    back = np.loadtxt(tmp_path / "a.csv", delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(back, a.table()[1])
+
+
+def test_the_npz_holds_names_as_text_and_joint_indices_as_integers(tmp_path):
+    """The NPZ reads back without pickles: the coordinates' names as text, the actuated joints
+    as integers, also when there are none (an atlas made without actuators)."""
+    from test_analysis_survivors import hand_atlas
+
+    a = hand_atlas()
+    a.to_npz(tmp_path / "a.npz")
+    with np.load(tmp_path / "a.npz", allow_pickle=False) as npz:
+        assert list(npz["coordinates"]) == ["a", "b"]
+        assert npz["actuated"].dtype.kind == "i" and list(npz["actuated"]) == [0, 1]
+    none = hand_atlas(actuated=(), actuator_units=()).arrays()["actuated"]
+    assert none.dtype.kind == "i" and none.shape == (0,)
+
+
+def test_a_body_off_the_origin_is_drawn_around_its_own_centre():
+    """_order on a 0.2 m square centred at (1, 1) m, its corners shuffled: around its centre
+    from the corner at -135 deg, closed; a 10 x 1 rectangle (singular values 10 and 1, exactly
+    the ratio 0.1 of a thin body) is not thin: also drawn around, closed."""
+    from planar_sym.analysis.atlas import _order
+
+    square = np.array([[1.1, 1.1], [0.9, 0.9], [1.1, 0.9], [0.9, 1.1]])
+    np.testing.assert_array_equal(_order(square), [[0.9, 0.9], [1.1, 0.9], [1.1, 1.1],
+                                                   [0.9, 1.1], [0.9, 0.9]])
+    box = np.array([[5.0, 0.5], [-5.0, 0.5], [5.0, -0.5], [-5.0, -0.5]])
+    s = np.linalg.svd(box - box.mean(axis=0), compute_uv=False)
+    if s[1] != 0.1 * s[0]:
+        pytest.skip("this LAPACK does not return the rectangle's singular values exactly")
+    np.testing.assert_array_equal(_order(box), [[-5.0, -0.5], [5.0, -0.5], [5.0, 0.5],
+                                                [-5.0, 0.5], [-5.0, -0.5]])
+
+
+def test_a_piston_whose_two_joints_meet_draws_no_line():
+    """parallel_3rpr drawn: each piston's prismatic joint and its pivot on the platform are at
+    the same point (one point: no line), so no body of the drawing has fewer than two points;
+    the ground is the three pivots A1..A3 of the description, each cylinder runs from its pivot
+    to the platform's vertex, and the task point is the platform's centre (0, 0)."""
+    from planar_sym.analysis.atlas import stick
+
+    robot = ps.load("parallel_3rpr")
+    s = stick(robot, robot.q_drawn)
+    assert all(len(b) >= 2 for b in s["bodies"])
+    A = np.array([[0.0, 0.4], [-0.346410161513775, -0.2], [0.346410161513775, -0.2]])
+    B = np.array([[-0.1, 0.0], [0.05, -0.086602540378444], [0.05, 0.086602540378444]])
+    np.testing.assert_allclose(s["ground"], A, rtol=0, atol=1e-15)
+    for a_k, b_k in zip(A, B):
+        assert any(len(b) == 2 and np.allclose(np.sort(b, axis=0), np.sort([a_k, b_k], axis=0),
+                                               rtol=0, atol=1e-12) for b in s["bodies"])
+    np.testing.assert_allclose(s["task"], [0.0, 0.0], rtol=0, atol=1e-15)
