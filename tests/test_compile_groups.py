@@ -126,3 +126,22 @@ def test_units_never_hold_two_groups():
     assert simd.units([60, 60, 10], 100, [0, 0, 0]) == [0, 1, 1]
     assert groups.assign({"a": 5, "b": 5}, 10) == [["a", "b"]]
     assert groups.assign({"a": 5, "b": 6}, 10) == [["a"], ["b"]]
+
+
+def test_a_sweep_sees_the_loops_of_a_group_not_yet_built(folder, cache):
+    """A sweep asks ``hasattr(robot.tree_inverse_dynamics, "designs")`` to choose its fast
+    route: before the first call that must compile the group and answer yes (not fall back to
+    a run per design), and the designs' torques are each design's own."""
+    robot, lib = _robot(folder)
+    ref, jt = _pose()
+    assert type(robot.__dict__["tree_inverse_dynamics"]).__name__ == "_OnFirstCall"
+    assert hasattr(robot.tree_inverse_dynamics, "designs")
+    assert lib.is_built("inverse_dynamics")
+    P = np.stack([ref.p, ref.p * 1.1])
+    tau = robot.tree_inverse_dynamics.designs(P, jt.q, jt.qd, jt.qdd)
+    other = ref.with_parameters(**{par.name: 1.1 * v for par, v in zip(ref.parameter_list,
+                                                                         ref.p)})
+    np.testing.assert_allclose(tau[0], ref.tree_inverse_dynamics(jt.q, jt.qd, jt.qdd),
+                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(tau[1], other.tree_inverse_dynamics(jt.q, jt.qd, jt.qdd),
+                               rtol=1e-12, atol=1e-12)

@@ -52,14 +52,27 @@ class _OnFirstCall:
         self.__doc__ = recipe[-1]
 
     def __call__(self, *args, **kwargs):
+        return self._bind()(*args, **kwargs)
+
+    @property
+    def designs(self):
+        """The C-level caller's ``designs`` (a sweep's many parameter vectors in one call):
+        compiles the group as a call would; AttributeError where no loops can be built, so
+        ``hasattr`` tells a sweep to run design by design, as on the exact path."""
+        return self._bind().designs
+
+    def _bind(self):
+        """The caller now in this one's place (or the class's method, with no loops)."""
         robot = self._robot
+        if robot.__dict__.get(self._attr) is not self:  # bound already (by another path)
+            return getattr(robot, self._attr)
         address = robot.library.loop_address(self._quantity)
         if address is None:  # no loops on this machine: the class's method
             del robot.__dict__[self._attr]
-            return getattr(robot, self._attr)(*args, **kwargs)
+            return getattr(robot, self._attr)
         caller = _caller(fastcall(), address, self._recipe, robot, self._checked)
         setattr(robot, self._attr, caller)
-        return caller(*args, **kwargs)
+        return caller
 
 
 @cache
