@@ -33,10 +33,11 @@ that growth and fits its exponents.
   target at 20 links); peak compiler memory under 300 MiB.
 * **generated code**: bytes of ``<name>.c`` (exact, per sample) and ``<name>_simd.c`` (the sample
   loops); the operations of all generated functions (sum of the manifest's per-function
-  ``operations``); the loops' compile units (manifest ``compile_units``); the exact file's
-  optimisation flag (``library.exact_flags``); each function's route (closed form or
-  algorithmic differentiation: all functions, then inverse dynamics, mass matrix and forward
-  dynamics); and ``equations.txt``: its bytes, and whether it prints the expanded closed forms
+  ``operations``); the loops' compile units (manifest ``compile_units``); the exact
+  libraries' optimisation flag (``compile.exact_flags``, per compile group where they
+  differ); each function's route (closed form or algorithmic differentiation, +ABA where
+  ``M^-1`` is the articulated-body recursion: all functions, then inverse dynamics, mass
+  matrix and forward dynamics); and ``equations.txt``: its bytes, and whether it prints the expanded closed forms
   or the structure (the structure report says so).
 * **run time per sample**, the public API on N random states (q uniform in [-pi, pi], qd and
   qdd in [-3, 3]): ``inverse_dynamics``, ``mass_matrix`` and ``forward_dynamics`` (with the

@@ -135,7 +135,6 @@ def _build_rounds(r: Robot, toml: Path, work: Path, repeats: int) -> tuple[Path,
 
 
 def _code(folder: Path) -> dict:
-    from planar_sym.model.compile import exact_flags
     from planar_sym.model.folders import read_manifest
 
     m = read_manifest(folder)
@@ -151,12 +150,24 @@ def _code(folder: Path) -> dict:
         if (folder / f"{name}_simd.c").exists() else 0,
         "ops": sum(f.get("operations", 0) for f in fns.values()),
         "units": len(m.get("compile_units", {}).get("simd", [0])),
-        "flag": exact_flags(m)[0],
+        "flag": _flags(m),
         "cf": routes.count("closed form"), "ad": routes.count("algorithmic differentiation"),
         "main": ", ".join(_route(fns[q].get("route", "")) if q in fns else "-" for q in main),
         "eq": len(eq.encode()),
         "eq_kind": "structure" if "structure" in eq else "closed forms",
     }
+
+
+def _flags(manifest: dict) -> str:
+    """The exact libraries' optimisation flag, per compile group where they differ: "-O3",
+    or "-O3; -O1 for 1 of 12 groups" (the forward dynamics' Jacobian past 20,000
+    operations)."""
+    from planar_sym.model.compile import exact_flags, groups
+
+    flags = [exact_flags(manifest, k)[0] for k in range(len(groups(manifest)))]
+    first = max(set(flags), key=flags.count)
+    other = [f for f in flags if f != first]
+    return first + (f"; {other[0]} for {len(other)} of {len(flags)} groups" if other else "")
 
 
 def _route(route: str) -> str:
