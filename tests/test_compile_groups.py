@@ -14,6 +14,10 @@ from __future__ import annotations
 
 import ctypes
 import json
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,6 +30,7 @@ from planar_sym.model.library import Library
 from planar_sym.model.robot import Robot
 from planar_sym.motion.closure import from_actuated
 
+ROOT = Path(__file__).resolve().parent.parent
 ROBOT = "five_bar_type1"
 
 
@@ -145,3 +150,30 @@ def test_a_sweep_sees_the_loops_of_a_group_not_yet_built(folder, cache):
                                rtol=0, atol=1e-12)
     np.testing.assert_allclose(tau[1], other.tree_inverse_dynamics(jt.q, jt.qd, jt.qdd),
                                rtol=1e-12, atol=1e-12)
+
+
+def test_the_command_line_on_a_robot_past_the_bound(tmp_path):
+    """`planar-sym derive` of a 6-link chain (5,104 operations, past the bound) says its
+    functions compile when first called, and compiles nothing (it used to print "not compiled
+    (no C compiler ...)" from the library's empty path); `planar-sym build` then compiles every
+    group: an exact library per function and a loops library per function that has a loop."""
+    from benchmarks.chains import write_chain
+
+    toml = write_chain(6, tmp_path)
+    env = {**os.environ, "PLANAR_SYM_CACHE": str(tmp_path / "cache"), "PLANAR_SYM_PREBUILT": "0",
+           "PYTHONPATH": str(ROOT)}
+    out = tmp_path / "out"
+
+    def cli(*args):
+        proc = subprocess.run([sys.executable, "-m", "planar_sym", *args], env=env,
+                              capture_output=True, text=True, timeout=600, check=False)
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout
+
+    said = cli("derive", str(toml), "--out", str(out))
+    assert (f"chain_6: wrote {out / 'chain_6'}/; its 12 functions compile each when first "
+            f"called (all of them now: `planar-sym build {out / 'chain_6'}`)") in said
+    assert not list((tmp_path / "cache").glob("*.so"))
+    said = cli("build", str(out / "chain_6"))
+    assert f"chain_6: 12 libraries, one per function, in {tmp_path / 'cache'}" in said
+    assert len(list((tmp_path / "cache").glob("chain_6-*-g*.so"))) == 12 + 8  # exact + loops

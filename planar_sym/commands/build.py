@@ -25,6 +25,9 @@ def run(args) -> int:
         lib = Library(name, folder)
         lib.build_all()  # a big robot's groups too, which otherwise compile when first called
         if not args.quiet:
-            print(f"{robot}: {lib.path or 'no C compiler: CasADi evaluator'}")
+            where = ("no C compiler: CasADi evaluator" if not lib.compiled
+                     else lib.path if len(lib.groups) == 1
+                     else f"{len(lib.groups)} libraries, one per function, in {lib.path.parent}")
+            print(f"{robot}: {where}")
     progress.done()
     return 0

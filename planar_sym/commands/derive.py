@@ -81,11 +81,17 @@ def run(args) -> int:
         else:
             progress.step(f"compiling {name}")
             try:
-                built = Library(name, folder).path
-                message = (f"{name}: wrote {folder}/, compiled {built}" if built is not None
-                           else f"{name}: wrote {folder}/, not compiled (no C compiler: it "
-                                "runs on CasADi's evaluator, slower; with a compiler, `planar-sym "
-                                f"build {folder}`)")
+                lib = Library(name, folder)
+                if not lib.compiled:
+                    message = (f"{name}: wrote {folder}/, not compiled (no C compiler: it runs "
+                               "on CasADi's evaluator, slower; with a compiler, `planar-sym "
+                               f"build {folder}`)")
+                elif len(lib.groups) > 1:  # a big robot: each function when first called
+                    message = (f"{name}: wrote {folder}/; its {len(lib.groups)} functions "
+                               "compile each when first called (all of them now: `planar-sym "
+                               f"build {folder}`)")
+                else:
+                    message = f"{name}: wrote {folder}/, compiled {lib.path}"
             except LibraryError as exc:
                 raise LibraryError(f"{name}: wrote {folder}/, but compiling it failed (the "
                                    f"generated C stays there; fix the compiler and run "
