@@ -461,3 +461,15 @@ def test_a_rubbing_robot_s_free_run_balances_its_energy():
         np.testing.assert_allclose(run.work_j, (run.q - run.q[0]) @ [0.02, -0.01], atol=1e-8)
     np.testing.assert_allclose(runs["dopri5"].friction_j, runs["cvodes"].friction_j,
                                rtol=1e-5, atol=1e-9)
+
+
+def test_the_balance_of_a_swing_whose_energy_stays_zero(arm):
+    """From the drawn pose at rest the arm's energy is 0 (the potential's zero) and stays 0
+    while 0.4 J of kinetic energy comes and goes: the balance is relative to the energy in
+    motion, as the drift is (relative to |E| alone it read 1.0: validate's row (c) failed on
+    every robot drawn at its potential's zero)."""
+    run = ps.simulate(arm, arm.q_drawn, [0.0, 0.0], (0.0, 1.0))
+    assert run.energy_j[0] == 0.0 and np.max(run.kinetic_j) > 0.4
+    assert np.all(run.work_j == 0.0) and np.all(run.friction_j == 0.0)
+    assert run.balance_residual < 1e-10 and run.energy_drift < 1e-10
+    assert run.balance_residual == pytest.approx(run.energy_drift, rel=1e-12)

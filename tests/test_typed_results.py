@@ -247,7 +247,7 @@ def test_open_loop_and_controlled_runs_are_one_type(rpr_runs):
     base = ["t_s", "q1_rad", "q2_m", "q3_rad", "qd1_rad_s", "qd2_m_s", "qd3_rad_s"]
     taus = ["tau1_n_m", "tau2_n", "tau3_n_m"]
     energies = ["kinetic_j", "potential_j", "energy_j"]
-    assert list(free.columns()) == base + taus + energies + ["work_j", "friction_j"]
+    assert list(free.columns()) == base + taus + energies
     assert list(run.columns()) == (base + ["q1_ref_rad", "q2_ref_m", "q3_ref_rad",
                                            "qd1_ref_rad_s", "qd2_ref_m_s", "qd3_ref_rad_s",
                                            "tau_cmd1_n_m", "tau_cmd2_n", "tau_cmd3_n_m"]

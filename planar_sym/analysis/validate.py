@@ -250,7 +250,7 @@ def check_energy(sim) -> Row:
     friction its energy balance E(t) - E(0) + F(t) = 0 (``Simulation.balance_residual``, a
     controlled run's: it integrates the friction's work)."""
     peak = f"peak kinetic energy {np.max(sim.kinetic_j):.3g} J"
-    if sim.friction_j is not None:
+    if sim.friction_j is not None and np.any(sim.friction_j != 0.0):
         return row(f"(c) energy balance with friction, free motion {sim.t_s[-1]:g} s",
                    sim.balance_residual, TOL_ENERGY,
                    f"relative; {peak}, friction work {sim.friction_j[-1]:.3g} J")

@@ -61,8 +61,10 @@ class Simulation:
         Controlled runs: the commanded torques, before saturation (N*m; N at a slider).
     work_j, friction_j : ndarray, shape (N,), or None
         The actuators' work int tau . qd dt and the friction loss int D(qd) . qd dt since the
-        start, both integrated with the state (J): every run of the engine (controlled runs,
-        SUNDIALS, tables of torques, dopri5 on a robot whose actuators rub).
+        start (J): integrated with the state by the engine (controlled runs, SUNDIALS, tables
+        of torques, dopri5 on a robot whose actuators rub), exact for constant torques without
+        friction; None for a torque function of time on SciPy's methods. Columns of
+        controlled runs only (an open-loop run's columns are the same on every route).
     controller : Controller or None
         Controlled runs: the control law and gains that ran.
     events : tuple of Event
@@ -132,7 +134,7 @@ class Simulation:
                     for col, k in enumerate(idx)]
         out += [Series("kinetic", "J", self.kinetic_j), Series("potential", "J", self.potential_j),
                 Series("energy", "J", self.energy_j)]
-        if self.work_j is not None and self.friction_j is not None:
+        if self.controlled:  # an open-loop run's columns are the same on every route
             out += [Series("work", "J", self.work_j), Series("friction", "J", self.friction_j)]
         return select(out, quantity, index, joint)
 
@@ -204,15 +206,16 @@ class Simulation:
     @property
     def balance_residual(self) -> float | None:
         """max |E(t) - E(0) - (W(t) - F(t))| over the run, relative to the largest of |E|,
-        |W| and |F| (J/J): the energy the actuators put in, less friction, is what the robot
-        gained, up to the integrator's accuracy. None for a run without work integrals (an
-        open-loop run on SciPy's methods, or dopri5's free run of a robot without friction)."""
+        |W|, |F| and the kinetic energy (J/J): the energy the actuators put in, less friction,
+        is what the robot gained, up to the integrator's accuracy (the kinetic energy keeps the
+        scale where E stays near 0, a free swing from a pose whose potential is the zero).
+        None for a run without work integrals (a torque function of time on SciPy's methods)."""
         if self.work_j is None or self.friction_j is None:
             return None
         e = self.energy_j - self.energy_j[0]
         gap = e - (self.work_j - self.friction_j)
         scale = max(np.max(np.abs(self.energy_j)), np.max(np.abs(self.work_j)),
-                    np.max(np.abs(self.friction_j)), 1e-300)
+                    np.max(np.abs(self.friction_j)), np.max(np.abs(self.kinetic_j)), 1e-300)
         return float(np.max(np.abs(gap)) / scale)
 
 
