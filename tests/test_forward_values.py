@@ -35,7 +35,7 @@ import warnings
 
 import numpy as np
 import pytest
-from conftest import TEST_ROBOTS
+from conftest import ROOT, TEST_ROBOTS
 from scipy.integrate import solve_ivp
 
 import planar_sym as ps
@@ -312,3 +312,66 @@ def test_the_step_budget_reaches_the_c_integrator(pendulum):
                                         r"steps") as info:
         ps.simulate(pendulum, [Q0], [0.0], (0.0, 1.0), t_eval=T[:21], max_steps=steps - 1)
     assert 0.0 < float(re.search(r"t = ([0-9.e-]+) s", str(info.value)).group(1)) < 1.0
+
+
+# -- a watched run (progress=...) ---------------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["dopri5", "Radau"])
+def test_a_watched_run_is_the_direct_run_argument_for_argument(pendulum, method):
+    """Catches an argument dropped or emptied where simulate calls itself again inside
+    ``watching(progress)``: with and without a progress callback the run is the same, bit for
+    bit, where every argument differs from its default and changes the run (a start state of
+    its own, a torque, a span from 0.1 s, output times, tolerances looser than the defaults),
+    a step budget that fails the run the same way, and a closed chain off its loops that only
+    ``project=True`` starts (the correction, 0.01 rad, reported by both)."""
+    args = {"torque": [0.4], "t_eval": np.linspace(0.1, 0.9, 9), "rtol": 1e-7, "atol": 1e-9,
+            "method": method}
+    heard = []
+    runs = [ps.simulate(pendulum, [Q0], [QD0], (0.1, 0.9), **args),
+            ps.simulate(pendulum, [Q0], [QD0], (0.1, 0.9), **args,
+                        progress=lambda done, total: heard.append((done, total)))]
+    for name in ("t_s", "q", "qd", "tau", "work_j", "friction_j"):
+        assert np.array_equal(getattr(runs[0], name), getattr(runs[1], name)), name
+    assert runs[1].method == runs[0].method and runs[1].n_rhs == runs[0].n_rhs
+    assert (runs[1].rtol, runs[1].atol) == (1e-7, 1e-9)
+    assert np.array_equal(runs[1].t_s, args["t_eval"]) and np.all(runs[1].tau == 0.4)
+    # the torque's work is tau (q - q0) = the energy gained (the run really had the torque)
+    assert np.max(np.abs(runs[1].energy_j - runs[1].energy_j[0]
+                         - 0.4 * (runs[1].q[:, 0] - runs[1].q[0, 0]))) < 1e-5
+    if method == "dopri5":  # the C loop reports the time it reached, up to the end 0.9 s
+        assert heard and heard[-1] == (0.9, 0.9)
+        steps = (runs[0].n_rhs - 1) // 6
+        for progress in (None, lambda done, total: None):  # the step budget reaches the loop
+            with pytest.raises(SimulationError, match="too many steps"):
+                ps.simulate(pendulum, [Q0], [QD0], (0.1, 0.9), **args, max_steps=steps - 1,
+                            progress=progress)
+    five = ps.load("five_bar_type1")
+    q0 = five.q_drawn.copy()
+    q0[1] += 0.01
+    closed = [ps.simulate(five, q0, np.zeros(4), (0.0, 0.02), t_eval=[0.0, 0.02], project=True,
+                          progress=progress) for progress in (None, lambda done, total: None)]
+    assert np.array_equal(closed[0].q, closed[1].q)
+    assert abs(closed[1].initial_correction_rad - 0.01) < 1e-9
+
+
+@pytest.mark.parametrize("case", ["torque of time", "rubbing joints"])
+def test_scipy_runs_report_no_work_they_did_not_integrate(pendulum, case):
+    """Catches the exact work tau . (q - q0) given where it does not hold (simulate's
+    ``if callable(torque) or robot.has_friction``): SciPy integrates the state alone, so a
+    torque f(t) (whose work is not tau(0) . (q - q0)) and a robot whose joints rub (whose
+    friction loss is not zero) get no work or friction integral. The energy balance shows
+    why: here E - E0 differs from tau(0) . (q - q0) by far more than the integrator's error
+    (the mutant's integrals would fail balance_residual)."""
+    if case == "torque of time":
+        robot, q0, tau = pendulum, [Q0], lambda t: [0.5 + 0.3 * np.sin(5.0 * t)]
+        tau0 = np.array([0.5])
+    else:
+        robot = ps.load(str(ROOT / "examples" / "serial_2dof_geared.toml"))
+        q0, tau, tau0 = [-1.0, 0.5], [0.02, -0.01], np.array([0.02, -0.01])
+        assert robot.has_friction
+    run = ps.simulate(robot, q0, np.zeros(len(q0)), (0.0, 1.0), t_eval=np.linspace(0, 1, 21),
+                      torque=tau, method="DOP853", rtol=1e-10, atol=1e-12)
+    assert run.work_j is None and run.friction_j is None and run.balance_residual is None
+    gap = float(np.max(np.abs(run.energy_j - run.energy_j[0] - (run.q - run.q[0]) @ tau0)))
+    print(f"\n{case}: |E - E0 - tau(0) . (q - q0)| up to {gap:.3g} J")
+    assert gap > 1e-5  # 4+ orders above the integrator's error at rtol 1e-10 (header)
