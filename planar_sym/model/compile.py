@@ -83,9 +83,8 @@ def groups(manifest: dict) -> list[dict]:
 def exact_flags(manifest: dict, group: int = 0) -> tuple[str, ...]:
     """Flags of ``<robot>.c`` (of one group's functions) by size: -O3, or -O1 past ``BIG_OPS``
     operations."""
-    functions = manifest.get("functions", {})
-    ops = sum(functions[q].get("operations", 0) for q in groups(manifest)[group]["functions"]
-              if q in functions)
+    functions = manifest.get("functions", {})  # groups() keeps only functions listed here
+    ops = sum(functions[q].get("operations", 0) for q in groups(manifest)[group]["functions"])
     return BIG_CFLAGS if ops > BIG_OPS else CFLAGS
 
 
