@@ -31,9 +31,15 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     ap = parser()
     args = ap.parse_args(argv)
-    with warnings.catch_warnings():  # a warning is one line, like an error: no source line
-        warnings.showwarning = _show_warning
-        return _run(args, lambda: _checks(ap, args, argv))
+    from . import progress
+
+    was, progress.QUIET = progress.QUIET, bool(getattr(args, "quiet", False))
+    try:
+        with warnings.catch_warnings():  # a warning is one line, like an error: no source line
+            warnings.showwarning = _show_warning
+            return _run(args, lambda: _checks(ap, args, argv))
+    finally:
+        progress.QUIET = was
 
 
 def _checks(ap: argparse.ArgumentParser, args, argv: list[str]) -> None:

@@ -30,10 +30,15 @@ from typing import TextIO, TypeVar
 T = TypeVar("T")
 
 
+#: the command line's ``--quiet`` for lines no caller can pass it to (``announce``): set for
+#: the length of one command (``cli.main``)
+QUIET = False
+
+
 def wanted(stream: TextIO | None = None, quiet: bool = False) -> bool:
     """Whether progress goes to ``stream`` (default standard error): a terminal, not quiet."""
     stream = sys.stderr if stream is None else stream
-    if quiet:
+    if quiet or QUIET:
         return False
     try:
         return bool(stream.isatty())
@@ -66,6 +71,14 @@ class Progress:
 
     def done(self) -> None:
         self._print(f"done: {self.count} in {time.perf_counter() - self.start:.1f} s")
+
+
+def announce(text: str, *, stream: TextIO | None = None) -> None:
+    """One line before a wait no caller sees coming (a big robot's function compiled the first
+    time it is called): ``text ...``, when ``wanted``."""
+    stream = sys.stderr if stream is None else stream
+    if wanted(stream):
+        print(f"{text} ...", file=stream, flush=True)
 
 
 def track(items: Iterable[T], what: str, *, quiet: bool = False,

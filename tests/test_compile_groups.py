@@ -89,6 +89,43 @@ def test_a_call_compiles_its_own_group_and_no_other(folder, cache):
     assert type(robot.__dict__["mass_matrix"]).__name__ != "_OnFirstCall", "not rebound"
 
 
+class _Terminal:
+    """Standard error as a terminal (progress lines are shown on one only)."""
+
+    def __init__(self):
+        self.text = ""
+
+    def write(self, s):
+        self.text += s
+
+    def flush(self):
+        pass
+
+    def isatty(self):
+        return True
+
+
+def test_a_first_compile_says_so_once_on_a_terminal(folder, cache, monkeypatch):
+    """A big robot's function can take seconds to compile on its first call: a terminal hears
+    which and how big before the wait, once; a cached one, or --quiet, says nothing."""
+    from planar_sym import progress
+
+    q = _pose()[1].q  # (the built-in robot compiled first: its one group says so too)
+    err = _Terminal()
+    monkeypatch.setattr(sys, "stderr", err)
+    robot, lib = _robot(folder)
+    robot.mass_matrix(q)
+    robot.mass_matrix(q)
+    ops = lib.manifest["functions"]["mass_matrix"]["operations"]
+    assert err.text == (f"{ROBOT}: compiling mass_matrix ({ops:,} operations), once: kept in "
+                        "the cache ...\n")
+    err.text = ""
+    _robot(folder)[0].mass_matrix(q)  # a new library, the group cached: nothing to say
+    monkeypatch.setattr(progress, "QUIET", True)
+    _robot(folder)[0].gravity(q)
+    assert err.text == ""
+
+
 def test_each_group_holds_its_functions_only(folder, cache):
     _, lib = _robot(folder)
     lib.build_all()

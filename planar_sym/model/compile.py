@@ -188,6 +188,12 @@ def _prebuilt(folder: Path, path: Path) -> Path | None:
     return pre if _intact(pre) else None
 
 
+def is_built(folder: Path, manifest: dict, group: int = 0) -> bool:
+    """Whether a group's exact library is built already (at install, or in the cache)."""
+    path = library_path(folder, manifest, group=group)
+    return _prebuilt(folder, path) is not None or _intact(path)
+
+
 def build(folder: Path, manifest: dict, force: bool = False, group: int = 0) -> Path:
     """Compile ``<robot>.c`` (exact: -O3, no fast math), or one group of its functions,
     unless this hash is built already (at install, or in the cache)."""

@@ -20,7 +20,8 @@ import numpy as np
 
 from ..errors import InputError, LibraryError
 from .batch import FunctionSpec, shaped
-from .compile import NoCompiler, _compiler, _fresh_name, build, build_simd, groups
+from ..progress import announce
+from .compile import NoCompiler, _compiler, _fresh_name, build, build_simd, groups, is_built
 from .folders import builtin_generated_dirs, find_generated, read_manifest
 
 __all__ = ["BatchFunction", "CorruptLibrary", "Library", "SingleCall", "builtin_generated_dirs",
@@ -172,6 +173,8 @@ class Library:
             if group in self._built:
                 return self._built[group]
             robot = self.manifest["robot"]
+            if not is_built(self.folder, self.manifest, group):
+                announce(self._compiling(group))
             with ThreadPoolExecutor(1) as pool:
                 simd_job = pool.submit(_try_build_simd, self.folder, self.manifest, group)
                 try:
@@ -204,6 +207,14 @@ class Library:
             if group == 0:
                 self.path, self.lib, self.simd = path, lib, simd
             return self._built[group]
+
+    def _compiling(self, group: int) -> str:
+        """What a group's first compile says: a big robot's takes seconds no caller expects."""
+        names = self.groups[group]["functions"]
+        ops = sum(self.manifest["functions"][q].get("operations", 0) for q in names)
+        what = (f"{names[0]}" if len(names) == 1 else f"{len(names)} functions")
+        return (f"{self.manifest['robot']}: compiling {what} ({ops:,} operations), once: "
+                "kept in the cache")
 
     def build_all(self) -> None:
         """Compile every group now (``planar-sym build``, ``make build``): the groups side by
