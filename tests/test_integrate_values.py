@@ -433,9 +433,13 @@ def test_check_torque_one_rule_for_every_route():
     assert check_torque(f, 2) is f
     table = from_table([0.0, 1.0], [[0.0, 1.0], [2.0, 3.0]], "linear")
     assert check_torque(table, 2) is table
-    for given, n, want in (([1, 2], 2, [1.0, 2.0]), (3, 3, [3.0] * 3), ([2.5], 3, [2.5] * 3)):
+    for given, n, want in (([1, 2], 2, [1.0, 2.0]), (3, 3, [3.0] * 3), ([2.5], 1, [2.5])):
         got = check_torque(given, n)
         assert isinstance(got, np.ndarray) and got.dtype == np.float64 and got.tolist() == want
+    with pytest.raises(InputError) as info:  # the first joint's, or every joint's? not guessed
+        check_torque([2.5], 3)
+    assert str(info.value) == ("torque [2.5] is one value for 3 actuated joints: give a number "
+                               "(2.5) for every joint, or 3 values")
     with pytest.raises(InputError) as info:
         check_torque(table, 3)
     assert str(info.value) == "the torque table has 2 columns for 3 actuated joints"

@@ -51,7 +51,10 @@ def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:
         arr = np.asarray(torque, dtype=float)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{rule} (got {torque!r}: {exc})") from None
-    if arr.shape not in ((), (1,), (n,)):
+    if arr.shape == (1,) and n > 1:  # [0.2] for two joints: the first only, or both? ask
+        raise InputError(f"torque {np.array2string(arr)} is one value for {n} actuated joints: "
+                         f"give a number ({arr[0]:g}) for every joint, or {n} values")
+    if arr.shape not in ((), (n,)):
         raise InputError(f"{rule} (got shape {arr.shape}: "
                          f"{np.array2string(arr, threshold=8)})")
     const = np.broadcast_to(arr, (n,)).copy()
@@ -63,8 +66,8 @@ def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:
 def check_torque(torque, n: int):
     """A run's torque input checked once, by one rule on every route (the C integrator, the
     engine, SciPy): None; a function of time (checked as it is called); a Signal of ``n``
-    channels; or constant torques, one number for every actuated joint or ``n`` of them,
-    returned as a float (n,) array (N*m; N at a slider)."""
+    channels; or constant torques, one number for every actuated joint or ``n`` of them (a
+    list of one for several joints is refused: which it means is not clear), returned as a float (n,) array (N*m; N at a slider)."""
     if torque is None or (callable(torque) and not isinstance(torque, Signal)):
         return torque
     if isinstance(torque, Signal):
