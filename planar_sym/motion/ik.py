@@ -50,6 +50,29 @@ def _add_singular(fails: Failures, cond: np.ndarray) -> np.ndarray:
     return bad
 
 
+def _add_mode_change(fails: Failures, robot: Robot, A: np.ndarray, ok: np.ndarray) -> None:
+    """Record a step across a singular pose of a closed chain's passive joints: det Phi_p
+    changes sign between two samples (A (N, n, n) is [Phi_q; J], ``ok`` (N,) the samples to
+    trust). [Phi_q; J] stays regular there, so the task is followed, but the mechanism driven
+    at its actuated joints passes a Type II singularity (unbounded torques) into another
+    assembly mode: refused, as ``motion.closure.solve_passive`` refuses it for joint motions."""
+    if not robot.is_closed_chain:
+        return
+    m = robot.n_constraints
+    pas = [i for i in range(robot.n) if i not in robot.actuated]
+    if len(pas) != m:  # Phi_p not square: no assembly mode to keep
+        return
+    sign = np.sign(np.linalg.det(A[:, :m][:, :, pas]))
+    flip = (sign[1:] != sign[:-1]) & ok[1:] & ok[:-1]
+    t = fails.t
+    fails.add(np.concatenate([[False], flip]), lambda k: (
+        f"is reached across a singular pose of the passive joints from sample {k - 1} "
+        f"(t = {t[k - 1]:.6g} s): det Phi_p changes sign, so the mechanism driven at its "
+        "actuated joints would pass a Type II singularity (unbounded torques) into another "
+        "assembly mode; keep the move on one side of the singular curve (planar-sym atlas "
+        "draws it)"))
+
+
 def choose_solver(robot: Robot, solver: str, q_start) -> str:
     """``"seed"`` or ``"newton"`` for a request of ``auto``, ``newton`` or ``seed``.
 
@@ -145,6 +168,7 @@ def inverse_kinematics(robot: Robot, traj: Trajectory, *, solver: str = "auto",
     qd = np.linalg.solve(A, np.concatenate([zeros, xd], axis=1)[..., None])[..., 0]
     if run is not None:
         newton.branch_check(fails, t, q, qd, ok)
+    _add_mode_change(fails, robot, A, ok)
     fails.raise_earliest()
     _, _, jdot_qd = robot.task(q, qd)
     gamma = robot.constraint_bias(q, qd).reshape(N, -1) if robot.is_closed_chain else zeros
