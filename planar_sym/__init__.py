@@ -15,6 +15,7 @@ from .errors import (
     InputError,
     LibraryError,
     PlanarSymError,
+    SeriesNotFound,
     SimulationError,
     WorkspaceError,
 )
@@ -30,6 +31,7 @@ __all__ = [
     "LibraryError",
     "PlanarSymError",
     "Robot",
+    "SeriesNotFound",
     "SimulationError",
     "Tracking",
     "Trajectory",

@@ -23,6 +23,13 @@ class InputError(PlanarSymError, ValueError):
     """Bad runtime input: wrong shape, NaN or infinite value (names the sample)."""
 
 
+class SeriesNotFound(InputError, KeyError):
+    """No one series of a result matches the quantity, coordinate or joint asked for (a KeyError
+    too, for code that catches that); the message names those there are."""
+
+    __str__ = Exception.__str__  # KeyError's would print the message quoted, as a key
+
+
 class WorkspaceError(PlanarSymError, ValueError):
     """A task-space target the robot cannot reach (names the time and the target)."""
 

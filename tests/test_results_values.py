@@ -87,18 +87,29 @@ def test_one_selects_by_joint(mixed):
     assert select(mixed, joint="C") == (mixed[3], mixed[5])
 
 
+NAME_ONE = "name one with index= (the 0-based coordinate number) or joint="
+HINT = ("(index is the 0-based coordinate number: a coordinate missing here has no {!r}, as a "
+        "passive joint has no torque)")
+FX_HAVE = "fx_C_n (joint 'C'), fx_D_n (joint 'D')"
+Q_HAVE = "q1_rad (index 0), q2_m (index 1)"
+
+
 @pytest.mark.parametrize("args, words", [
-    (("fx",), "2 series of 'fx' (of 'fx': fx_C_n, fx_D_n)"),
-    (("fx", None, "E"), "0 series of 'fx', joint='E' (of 'fx': fx_C_n, fx_D_n)"),
-    (("q",), "2 series of 'q' (of 'q': q1_rad, q2_m)"),
-    (("q", 0, "C"), "0 series of 'q', index=0, joint='C' (of 'q': q1_rad, q2_m)"),
-    (("q", 2), "0 series of 'q', index=2 (of 'q': q1_rad, q2_m)"),
-    (("tau", 1), "0 series of 'tau', index=1 (of 'tau': none)"),
-    (("fy", 0, "C"), "0 series of 'fy', index=0, joint='C' (of 'fy': fy_C_n)"),
+    (("fx",), f"2 series of 'fx': {NAME_ONE} ({FX_HAVE})"),
+    (("fx", None, "E"), f"no series of 'fx' with joint='E'; 'fx' has {FX_HAVE}"),
+    (("q",), f"2 series of 'q': {NAME_ONE} ({Q_HAVE})"),
+    (("q", 0, "C"), f"no series of 'q' with index=0 and joint='C' {HINT.format('q')}; 'q' has {Q_HAVE}"),
+    (("q", 2), f"no series of 'q' with index=2 {HINT.format('q')}; 'q' has {Q_HAVE}"),
+    (("tau", 1), "no series of 'tau' in this result (its quantities: t, q, fx, fy)"),
+    (("fy", 0, "C"), f"no series of 'fy' with index=0 and joint='C' {HINT.format('fy')}; 'fy' "
+                     "has fy_C_n (joint 'C')"),
 ])
 def test_one_refuses_word_for_word(mixed, args, words):
-    with pytest.raises(KeyError) as exc:
+    """A refusal is an InputError (a message, not a traceback, on the command line) and a
+    KeyError, and prints as its words (a KeyError alone prints them quoted)."""
+    with pytest.raises(InputError) as exc:
         one(mixed, *args)
+    assert isinstance(exc.value, KeyError) and str(exc.value) == words
     assert exc.value.args == (words,)
 
 
@@ -155,10 +166,11 @@ def test_series_and_get_select_by_index_and_joint():
     assert sim.get("qd", 1).unit == "m/s" and np.array_equal(sim.get("qd", 1).values, QD[:, 1])
     with pytest.raises(KeyError) as exc:
         sim.get("q", 0, joint="A")
-    assert exc.value.args == ("0 series of 'q', index=0, joint='A' (of 'q': q1_rad, q2_m)",)
+    assert exc.value.args == (f"no series of 'q' with index=0 and joint='A' {HINT.format('q')}; "
+                              f"'q' has {Q_HAVE}",)
     with pytest.raises(KeyError) as exc:
         sim.get("energy", joint="C")
-    assert exc.value.args == ("0 series of 'energy', joint='C' (of 'energy': energy_j)",)
+    assert exc.value.args == ("no series of 'energy' with joint='C'; 'energy' has energy_j",)
 
 
 def test_tau_on_the_actuated_coordinates_only():

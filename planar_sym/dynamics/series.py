@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SeriesNotFound
 
 #: every unit a series may have -> the suffix its column name ends with
 UNIT_SUFFIX = {"s": "s", "rad": "rad", "m": "m", "mm": "mm", "rad/s": "rad_s", "m/s": "m_s",
@@ -151,11 +151,30 @@ def select(series, quantity: str | None = None, index: int | None = None,
 
 def one(series, quantity: str, index: int | None = None, joint: str | None = None) -> Series:
     """The one series of ``quantity`` (at coordinate ``index``, or ``joint``), shape (N,), in
-    its unit; KeyError naming what exists if there is none or more than one."""
+    its unit; SeriesNotFound (an InputError and a KeyError) naming those there are if there is
+    none or more than one."""
     found = select(series, quantity, index, joint)
-    if len(found) != 1:
-        where = "".join(f", {k}={v!r}" for k, v in (("index", index), ("joint", joint))
-                        if v is not None)
-        have = ", ".join(s.column for s in select(series, quantity)) or "none"
-        raise KeyError(f"{len(found)} series of {quantity!r}{where} (of {quantity!r}: {have})")
-    return found[0]
+    if len(found) == 1:
+        return found[0]
+    where = " and ".join(f"{k}={v!r}" for k, v in (("index", index), ("joint", joint))
+                         if v is not None)
+    same = select(series, quantity)
+    have = ", ".join(_label(s) for s in same)
+    if found:
+        raise SeriesNotFound(f"{len(found)} series of {quantity!r}: name one with index= (the "
+                             f"0-based coordinate number) or joint= ({have})")
+    if not same:
+        names = ", ".join(dict.fromkeys(s.quantity for s in series))
+        raise SeriesNotFound(f"no series of {quantity!r} in this result (its quantities: "
+                             f"{names or 'none'})")
+    hint = (" (index is the 0-based coordinate number: a coordinate missing here has no "
+            f"{quantity!r}, as a passive joint has no torque)") if index is not None else ""
+    raise SeriesNotFound(f"no series of {quantity!r} with {where}{hint}; {quantity!r} has "
+                         f"{have}")
+
+
+def _label(s: Series) -> str:
+    """A series as a refusal lists it: its column, and the coordinate or joint it is of."""
+    if s.joint is not None:
+        return f"{s.column} (joint {s.joint!r})"
+    return s.column if s.index is None else f"{s.column} (index {s.index})"
