@@ -156,6 +156,26 @@ samples = 1
     assert len(problems) == len(expected) + 1  # and: neither by nor end
 
 
+def test_a_misspelt_table_is_one_message_and_its_fields_are_still_checked(tmp_path):
+    """``[motoin]`` for ``[motion]`` gave the unknown key and then five fields of [motion] as
+    missing: now one message, and a real mistake inside it is still found, at motion.*."""
+    text = ('robot = "serial_2dof"\nkind = "inverse"\n[motoin]\nspace = "task"\n'
+            'start = [100, 100]\nby = [0, 50]\nduration = {}\n')
+    path = write(tmp_path, text.format(2))
+    with pytest.raises(InputError) as exc:
+        spec.load(path)
+    assert exc.value.problems == [f"{path}: motoin: unknown key: did you mean 'motion'? "
+                                  "(checked as motion below)"]
+    path = write(tmp_path, text.format(-2))
+    with pytest.raises(InputError) as exc:
+        spec.load(path)
+    assert exc.value.problems[1:] == [f"{path}: motion.duration: must be > 0 (got -2)"]
+    data = {"robot": "serial_2dof", "kind": "inverse", "motoin": {"space": "task"}}
+    with pytest.raises(InputError):
+        spec.parse(data, "x")
+    assert "motoin" in data and "motion" not in data, "the caller's table was changed"
+
+
 def test_forward_study_needs_a_simulation_table(tmp_path):
     path = write(tmp_path, 'robot = "serial_2dof"\nkind = "forward"\n[motion]\nspace = "task"\n')
     with pytest.raises(InputError) as exc:

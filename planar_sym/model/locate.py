@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, LibraryError
+from ..spelling import did_you_mean
 from .folders import cache_dir, find_generated
 from .library import Library
 from .robot import Robot
@@ -64,7 +65,7 @@ def locate(robot: str | os.PathLike, generated: str | os.PathLike | None = None
     if not _is_known(text) and text not in builtin_robots():  # else: a stale checkout, below
         raise LibraryError(f"unknown robot {text!r}: not a built-in robot "
                            f"({', '.join(builtin_robots())}), nor a description file (.toml) "
-                           "or a generated folder (a path)")
+                           f"or a generated folder (a path){did_you_mean(text, builtin_robots())}")
     return text, find_generated(text)
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import InputError
+from ..spelling import did_you_mean
 
 
 def studies_dir() -> Path:
@@ -22,5 +23,5 @@ def find(name: str) -> Path:
     path = studies_dir() / f"{name}.toml"
     if not path.is_file():
         raise InputError(f"unknown study {name!r}: not a built-in study ({', '.join(names())}) "
-                         "nor a study file (.toml)")
+                         f"nor a study file (.toml){did_you_mean(name, names())}")
     return path

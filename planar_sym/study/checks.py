@@ -16,6 +16,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..expressions import Bad, constants, numbers
 from ..model.units import factor
+from ..spelling import unknown_keys
 
 
 class StudyError(InputError):
@@ -54,8 +55,9 @@ class Checker:
             raise StudyError(self.problems)
 
     def keys(self, tbl: dict, known: set[str], prefix: str) -> None:
-        for key in sorted(set(tbl) - known):
-            self.err(f"{prefix}{key}", f"unknown key (known: {', '.join(sorted(known))})")
+        """Unknown keys of ``tbl`` reported; a misspelt one moved to the key it nearly is
+        (``spelling.unknown_keys``: ``parse`` works on a copy of the file's tables)."""
+        unknown_keys(tbl, known, lambda key, msg: self.err(f"{prefix}{key}", msg))
 
     def table(self, data: dict, key: str, required: bool = False) -> dict:
         v = data.get(key)

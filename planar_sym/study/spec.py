@@ -59,6 +59,7 @@ Here the file is read (``load``, ``parse``); beside it are the tables of what it
 
 from __future__ import annotations
 
+import copy
 import tomllib
 from pathlib import Path
 
@@ -110,6 +111,7 @@ def load(path: str | Path) -> Study:
 
 def parse(data: dict, name: str, path: Path | None = None) -> Study:
     """A Study from a TOML table (``path`` names the file in messages and anchors paths)."""
+    data = copy.deepcopy(data)  # a misspelt key is moved to the key it nearly is (Checker.keys)
     c = StudyChecker(path)
     c.keys(data, _TOP, "")
     data = c.expressions(data, NUMBERS)

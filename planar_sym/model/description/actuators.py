@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 
+from ...spelling import unknown_keys
 from ..units import UNITS
 from .fields import Fields
 from .quantities import ACTUATOR_QUANTITY, QUANTITIES, doubt
@@ -56,8 +57,7 @@ class Actuators(Fields):
         if actuated is False:
             self.err(f, "only an actuated joint has an actuator (actuated = true)")
             return None
-        for key in sorted(set(a) - set(ACTUATOR_KEYS)):
-            self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(ACTUATOR_KEYS))})")
+        unknown_keys(a, ACTUATOR_KEYS, lambda key, msg: self.err(f"{f}.{key}", msg))
         values: dict[str, float] = {}
         slider = jtype == "prismatic"
         for key, meaning in ACTUATOR_KEYS.items():

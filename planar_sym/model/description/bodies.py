@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+from ...spelling import unknown_keys
 from .fields import BODY_KEYS, GROUND_KEYS, NAME, snap
 from .plausibility import Plausibility
 from .quantities import inertia_doubt, mass_doubt
@@ -25,8 +26,7 @@ class Bodies(Plausibility):
         if not isinstance(g, dict):
             self.err("ground", "missing table [ground] with its points (world frame)")
             return None
-        for key in sorted(set(g) - set(GROUND_KEYS)):
-            self.err(f"ground.{key}", f"unknown key (known: {', '.join(GROUND_KEYS)})")
+        unknown_keys(g, GROUND_KEYS, lambda key, msg: self.err(f"ground.{key}", msg))
         before = len(self.problems)
         pts = self._points(g.get("points"), "ground.points", scale.get("length"))
         if len(self.problems) > before:
@@ -60,8 +60,7 @@ class Bodies(Plausibility):
 
     def _body(self, i: int, raw: dict, scale, pose: str | None) -> Body | None:
         f = f"bodies[{i}]"
-        for key in sorted(set(raw) - BODY_KEYS):
-            self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(BODY_KEYS))})")
+        unknown_keys(raw, BODY_KEYS, lambda key, msg: self.err(f"{f}.{key}", msg))
         # a body with a problem of its own is not built: nothing after it (frame, closure,
         # plausibility, joints naming it) reports the same mistake again
         before = len(self.problems)

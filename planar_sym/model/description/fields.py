@@ -11,6 +11,8 @@ check that field, like any other wrong value of it: one mistake, one message.
 
 from __future__ import annotations
 
+import copy
+
 import math
 import re
 from pathlib import Path
@@ -41,7 +43,8 @@ class Fields:
     """Collects the problems of one description; the base of the validator's stages."""
 
     def __init__(self, path: Path, data: dict, sha: str):
-        self.path, self.data, self.sha = path, data, sha
+        # a copy: a misspelt key is moved to the key it nearly is (spelling.unknown_keys)
+        self.path, self.data, self.sha = path, copy.deepcopy(data), sha
         self.problems: list[str] = []
         self.warnings: list[str] = []  # shown only when the description has no error
 

@@ -8,6 +8,7 @@ import tomllib
 from pathlib import Path
 
 from ...errors import DescriptionError
+from ...spelling import did_you_mean
 from .types import Description
 from .validator import Validator
 
@@ -36,7 +37,8 @@ def resolve(robot: str | Path) -> Path:
     candidate = robots_dir() / f"{robot}.toml"
     if not candidate.exists():
         raise DescriptionError(
-            [f"unknown robot {robot!r}; built in: {', '.join(builtin_robots())}"]
+            [f"unknown robot {robot!r}; built in: {', '.join(builtin_robots())}"
+             f"{did_you_mean(robot, builtin_robots())}"]
         )
     return candidate
 

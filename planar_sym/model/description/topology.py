@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from ...spelling import unknown_keys
 from . import mobility
 from .actuators import Actuators
 from .fields import JOINT_KEYS, JOINT_TYPES, NAME
@@ -36,8 +37,7 @@ class Topology(Actuators):
     def _joint(self, i: int, raw: dict, bodies: dict[str, Body], pose: str | None,
                scale: dict[str, float]) -> Joint | None:
         f = f"joints[{i}]"
-        for key in sorted(set(raw) - JOINT_KEYS):
-            self.err(f"{f}.{key}", f"unknown key (known: {', '.join(sorted(JOINT_KEYS))})")
+        unknown_keys(raw, JOINT_KEYS, lambda key, msg: self.err(f"{f}.{key}", msg))
         name = self._str(raw, "name", f"{f}.name")
         if name is not None:
             f = f"joints[{i}] ({name})"

@@ -4,6 +4,7 @@ then either a Description or one DescriptionError listing them all."""
 from __future__ import annotations
 
 from ...errors import DescriptionError
+from ...spelling import unknown_keys
 from .actuators import ACTUATOR_KEYS
 from .assembly import assemble, place, tree_angles
 from .bodies import Bodies
@@ -35,8 +36,7 @@ class Validator(Bodies, Topology):
 
     def run(self) -> Description:
         d = self.data
-        for key in sorted(set(d) - TOP_KEYS):
-            self.err(key, f"unknown key (known: {', '.join(sorted(TOP_KEYS))})")
+        unknown_keys(d, TOP_KEYS, self.err)
         if not self._expressions(NUMBERS):
             raise DescriptionError(self.problems)
         d = self.data
@@ -151,8 +151,7 @@ class Validator(Bodies, Topology):
         if not isinstance(t, dict):
             self.err("task", "must be a table with point = 'body.point'")
             return None, None
-        for key in sorted(set(t) - TASK_KEYS):
-            self.err(f"task.{key}", f"unknown key (known: {', '.join(sorted(TASK_KEYS))})")
+        unknown_keys(t, TASK_KEYS, lambda key, msg: self.err(f"task.{key}", msg))
         end = self._end(t, "point", "task", bodies) or ("", "")
         orient = t.get("orientation")
         if orient is not None and (not isinstance(orient, str) or orient not in bodies):
