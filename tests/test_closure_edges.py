@@ -306,13 +306,13 @@ def test_a_singular_start_is_refused_between_the_first_two_samples(par):
 def test_a_five_bar_start_at_its_workspace_edge_is_refused(five):
     """The last crank angle at which Newton closes the loops (bisection), where the distal
     links are nearly stretched: its 1-norm condition number, recomputed, is in the message."""
-    left = five.q_drawn[0]
+    left, guess = five.q_drawn[0], five.q_drawn  # (a start pose given: Newton, no continuation)
     lo, hi = 0.7003, 0.7
-    q = closure.solve_passive(five, [[left, lo]])[0]
+    q = closure.solve_passive(five, [[left, lo]], guess)[0]
     for _ in range(60):
         mid = 0.5 * (lo + hi)
         try:
-            q = closure.solve_passive(five, [[left, mid]])[0]
+            q = closure.solve_passive(five, [[left, mid]], guess)[0]
             lo = mid
         except WorkspaceError:
             hi = mid
@@ -320,7 +320,7 @@ def test_a_five_bar_start_at_its_workspace_edge_is_refused(five):
     cond = cond1(five, q)
     assert cond > COND_LIMIT
     with pytest.raises(WorkspaceError) as exc:
-        closure.solve_passive(five, [[left, lo], [left, 0.71]], None, np.array([1.0, 2.0]))
+        closure.solve_passive(five, [[left, lo], [left, 0.71]], guess, np.array([1.0, 2.0]))
     where = "between t = 1 s (sample 0) and t = 2 s (sample 1)"
     assert str(exc.value) == SINGULAR.format(name="five_bar_type1", where=where,
                                              cond=f"{cond:.3g}")
@@ -408,8 +408,8 @@ def _other_mode(four, residual=None):
 def test_a_correction_in_the_other_assembly_mode_is_refused(four, monkeypatch):
     guesses = spy(monkeypatch, _other_mode(four))
     t = np.array([0.0, 0.25, 0.5])
-    with pytest.raises(WorkspaceError) as exc:
-        closure.solve_passive(four, [[1.0], [1.04], [1.08]], None, t)
+    with pytest.raises(WorkspaceError) as exc:  # (a start pose given: the first by Newton)
+        closure.solve_passive(four, [[1.0], [1.04], [1.08]], four.q_drawn, t)
     assert str(exc.value) == MODE
     assert len(guesses) == 1 + 1 + 21
 

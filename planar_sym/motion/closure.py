@@ -38,8 +38,9 @@ def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
 def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     """Full coordinates from actuated ones, Newton on Phi(q) = 0 for the passive joints.
 
-    The first sample starts from ``q_guess`` (default the drawn configuration), which picks the
-    assembly mode; the others follow it along the motion, whatever the sampling (``_follow``):
+    The first sample is reached from the drawn configuration along the loops (as the others
+    from it), so it is in the drawn assembly mode wherever it lies, or from ``q_guess`` by
+    Newton, which then picks the mode; the others follow it along the motion, whatever the sampling (``_follow``):
     from each solved pose to the next sample's actuated coordinates in steps of at most
     ``MAX_STEP`` in any coordinate (and shorter near a singular pose), each predicted along
     the loops' tangent and corrected by Newton; refused where the motion meets a singular pose
@@ -55,15 +56,36 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     act, pas = partition(robot)
     loops = _Loops(robot, act, pas)
     q_act = as_samples("q_act", q_act, len(act), times=t)
-    q = np.array(robot.q_drawn if q_guess is None else q_guess, dtype=float)
-    q[act] = q_act[0]
-    pose = _Pose(loops, loops.close(q, q_act[0], t, 0))
+    pose = _first(loops, q_act[0], q_guess, t)
     out = np.empty((len(q_act), robot.n))
     out[0] = pose.q
     for k in range(1, len(q_act)):
         pose = _follow(loops, pose, q_act[k], t, k)
         out[k] = pose.q
     return out
+
+
+def _first(loops: "_Loops", qa: np.ndarray, q_guess, t) -> "_Pose":
+    """The first sample's pose: from ``q_guess`` by Newton, or (None) continued from the drawn
+    pose, whose assembly mode it keeps. Newton from the drawn passive angles straight at a
+    crank 240 degrees away closed the slider-crank in its other mode (the slider on the far
+    side of the pivot, 7% off in torque) without a word. A drawn pose that is itself singular
+    is left to Newton, as before."""
+    robot, act = loops.robot, loops.act
+    q = np.array(robot.q_drawn if q_guess is None else q_guess, dtype=float)
+    if q_guess is None:
+        drawn, residual = loops.newton(q)
+        pose = _Pose(loops, drawn) if residual < NEWTON_TOL_M else None
+        if pose is not None and pose.cond <= COND_LIMIT:
+            try:
+                return _follow(loops, pose, qa, t, 0, origin="the drawn pose")
+            except WorkspaceError:
+                # a target the loops close at in no mode is outside, whatever lies between
+                q[act] = qa
+                if loops.newton(q)[1] < NEWTON_TOL_M:
+                    raise
+    q[act] = qa
+    return _Pose(loops, loops.close(q, qa, t, 0))
 
 
 #: continuation: the largest change of any coordinate (rad; m at a slider) in one step from
@@ -116,10 +138,13 @@ class _Loops:
                              f"({', '.join(robot.coordinate_units[i] for i in self.act)}) "
                              f"({why}): outside the workspace")
 
-    def refuse_singular(self, cond: float, at_sample: bool, t, k: int) -> None:
+    def refuse_singular(self, cond: float, at_sample: bool, t, k: int,
+                        origin: str | None = None) -> None:
         """WorkspaceError for a pose whose Phi_p has 1-norm condition number ``cond`` above
-        COND_LIMIT: sample ``k`` itself, or on the way from the sample before."""
-        where = when(t, k) if at_sample else f"between {when(t, k - 1)} and {when(t, k)}"
+        COND_LIMIT: sample ``k`` itself, or on the way from ``origin`` (default the sample
+        before)."""
+        where = (when(t, k) if at_sample
+                 else f"between {origin or when(t, k - 1)} and {when(t, k)}")
         raise WorkspaceError(f"{self.robot.name}: singular pose {'at ' if at_sample else ''}"
                              f"{where}: the passive-joint constraint Jacobian Phi_p has "
                              f"1-norm condition number {cond:.3g} > {COND_LIMIT:g}")
@@ -141,12 +166,15 @@ class _Pose:
             self.inv, self.cond = None, np.inf
 
 
-def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int) -> _Pose:
+def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int,
+            origin: str | None = None) -> _Pose:
     """From the solved ``pose`` to the actuated coordinates ``qa_to`` of sample ``k``, in the
-    assembly mode of ``pose`` (see ``solve_passive``)."""
+    assembly mode of ``pose`` (see ``solve_passive``); ``origin`` names where ``pose`` is in
+    an error (default the sample before)."""
     act, pas = loops.act, loops.pas
+    origin = origin or when(t, k - 1)
     if not pose.cond <= COND_LIMIT:
-        loops.refuse_singular(pose.cond, False, t, k)
+        loops.refuse_singular(pose.cond, False, t, k, origin)
     qa_from, sign = pose.q[act].copy(), pose.sign
     span = qa_to - qa_from
     s, ds = 0.0, 1.0 / max(1, int(np.ceil(np.max(np.abs(span)) / MAX_STEP)))
@@ -172,7 +200,7 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int) -> _Pose:
         if residual < NEWTON_TOL_M and near:
             new = _Pose(loops, trial)
             if not new.cond <= COND_LIMIT:
-                loops.refuse_singular(new.cond, s + ds >= 1.0, t, k)
+                loops.refuse_singular(new.cond, s + ds >= 1.0, t, k, origin)
             if new.sign == sign:
                 pose, s = new, s + ds
                 if halvings:  # the step grows back once the hard part is passed
@@ -185,13 +213,15 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int) -> _Pose:
         return pose
     last = _Pose(loops, trial) if residual < NEWTON_TOL_M else None
     if last is not None and not last.cond <= COND_LIMIT:  # Newton closed it there: singular
-        loops.refuse_singular(last.cond, s + ds >= 1.0, t, k)
+        loops.refuse_singular(last.cond, s + ds >= 1.0, t, k, origin)
     if last is not None and last.sign != sign:
         robot = loops.robot
-        raise WorkspaceError(f"{robot.name}: between {when(t, k - 1)} and {when(t, k)} the "
+        hint = ("; to start in another assembly mode, give a start pose in it (start_pose, "
+                "q_guess)") if k == 0 else ""
+        raise WorkspaceError(f"{robot.name}: between {origin} and {when(t, k)} the "
                              "passive joints pass a singular pose (det Phi_p changes sign): "
                              "the loops would go on in another assembly mode, so the motion "
-                             "leaves the workspace of the mode it started in")
+                             f"leaves the workspace of the mode it started in{hint}")
     loops.refuse_outside(qa_to, residual, t, k, closed_far=residual < NEWTON_TOL_M)
 
 
