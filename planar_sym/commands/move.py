@@ -14,6 +14,8 @@ checked exactly as a study file is (``--save-study FILE`` writes that file).
 from __future__ import annotations
 
 import os
+import re
+from contextlib import contextmanager
 from pathlib import Path
 
 from ..errors import InputError
@@ -106,7 +108,8 @@ def run(args) -> int:
     check_out(args.out)
     name = args.name or f"{Path(args.robot).stem}_move"
     table = study_table(args)
-    st = spec.parse(table, name)
+    with _in_options():
+        st = spec.parse(table, name)
     if args.save_study is not None:
         from ..files import atomic_files
         from ..toml_write import dumps
@@ -117,7 +120,30 @@ def run(args) -> int:
                 saved["robot"], Path(args.save_study).resolve().parent)).as_posix()
         with atomic_files([args.save_study]) as (tmp,):
             tmp.write_text(dumps(saved))
-    with simulation_clock(name, args.quiet):
+    with simulation_clock(name, args.quiet), _in_options():
         done = write_study(st, args.out, quiet=args.quiet)
     report(done, name, args.quiet)
     return 0
+
+
+#: the study fields this command line fills, and the options that fill them
+_OPTION_OF = {"motion.duration": "--duration", "motion.start": "--from", "motion.by": "--by",
+              "motion.end": "--to", "motion.samples": "--samples", "motion.profile": "--profile",
+              "motion.ik": "--ik", "units.angle": "--angle", "units.length": "--length",
+              "parameters.": "--set ", "parameters": "--set", "invalid study": "invalid move"}
+
+
+@contextmanager
+def _in_options():
+    """Errors in the words of the command line: the study it builds is not the user's file,
+    so ``motion.duration: must be > 0`` is said of ``--duration``."""
+    try:
+        yield
+    except InputError as exc:
+        text = str(exc)
+        for fld, option in _OPTION_OF.items():
+            text = re.sub(rf"(?<![\w.]){re.escape(fld)}(?![\w])" if not fld.endswith(".")
+                          else rf"(?<![\w.]){re.escape(fld)}", option, text)
+        if text == str(exc):
+            raise
+        raise InputError(text) from None

@@ -77,8 +77,10 @@ class StudyChecker(Checker):
                 self.err("motion", "give `by` or `end`, not both")
             for key, vec in (("by", by), ("end", end)):
                 if vec is not None and kw["start"] and len(vec) != len(kw["start"]):
-                    self.err(f"motion.{key}", f"must have {len(kw['start'])} values like "
-                                              f"motion.start (got {len(vec)})")
+                    # which of the two is wrong, the robot says: checked when it is loaded
+                    self.err(f"motion.{key}", f"has {len(vec)} values and motion.start "
+                                              f"{len(kw['start'])}: both need one per "
+                                              "coordinate moved")
             kw.update(by=by, end=end)
             if shape == "trapezoid":
                 kw["v_max"] = self.vector(m, "v_max", "motion.v_max", required=True)
