@@ -344,6 +344,10 @@ def _manifest(desc: Description, gens: list[Generated], digest: str, files: dict
         "q_drawn": list(desc.q_drawn()),
         "task": list(desc.task_names),
         "bodies": [b for b in desc.bodies if b != GROUND],
+        # every point of each body in its frame (m): the run-time rules measure a body's
+        # extent from them as the description's do, points that are no parameter included
+        "body_points": {b: {p: list(xy) for p, xy in body.points_m.items()}
+                        for b, body in desc.bodies.items() if b != GROUND},
         "loops": [j.name for j in desc.loop_joints],
         "joints": _joints(desc),
         "actuators": _actuators(desc),

@@ -162,7 +162,7 @@ def _warn_unit_slip(robot: Robot, names, units, values: np.ndarray) -> None:
     largest value of the range."""
     import warnings
 
-    own = {p.name: p.value for p in robot.parameter_list}
+    own = {**robot.parameters.fixed, **{p.name: p.value for p in robot.parameter_list}}
     for k, (name, unit) in enumerate(zip(names, units)):
         ends = (values[:, k].min(), values[:, k].max())
         for end in dict.fromkeys(ends):
@@ -180,10 +180,13 @@ def _check_physical(robot: Robot, names, values: np.ndarray, P: np.ndarray) -> N
     (the rules checked on whole columns at once, ``model.parameters.failing``)."""
     known = [par.name for par in robot.parameter_list]
     units = {par.name: par.unit for par in robot.parameter_list}
-    bad = failing(known, P, robot.body_names, units)
+    fixed = robot.parameters.fixed  # body points that are no parameter: constant columns
+    bad = failing([*known, *fixed], np.hstack([P, np.tile(list(fixed.values()), (len(P), 1))]),
+                  robot.body_names, units)
     if bad.any():
         k = int(np.argmax(bad))
-        found = problems(dict(zip(known, map(float, P[k]))), robot.body_names, units)
+        found = problems({**fixed, **dict(zip(known, map(float, P[k])))}, robot.body_names,
+                         units)
         what = ", ".join(f"{n} = {values[k, i]:.6g}" for i, n in enumerate(names))
         raise InputError(f"design {k} ({what}) is not physical: {'; '.join(found)} "
                          f"({int(bad.sum())} of {len(P)} designs are not); narrow the range")

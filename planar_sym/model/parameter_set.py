@@ -68,12 +68,16 @@ class Parameters(Mapping):
     bodies : tuple of str
     """
 
-    __slots__ = ("_index", "bodies", "entries", "owner", "vector")
+    __slots__ = ("_index", "bodies", "entries", "fixed", "owner", "vector")
 
     def __init__(self, entries: tuple[Parameter, ...], vector=None, *,
-                 bodies: tuple[str, ...] = (), owner: str = ""):
+                 bodies: tuple[str, ...] = (), owner: str = "",
+                 fixed: dict[str, float] | None = None):
         self.entries = tuple(entries)
         self.bodies = tuple(bodies)
+        #: the body points that are no parameter, named as parameters would be (``px_<body>_
+        #: <point>``, m): the rules measure a body's extent with them, as the description does
+        self.fixed = dict(fixed or {})
         self.owner = owner
         self._index = {p.name: k for k, p in enumerate(self.entries)}
         derived = vector is None
@@ -138,12 +142,13 @@ class Parameters(Mapping):
             self._warn(values, list(changed), where, typed)
 
     def _warn(self, values: dict, names: list, where: str, typed: dict | None) -> None:
-        derived = {p.name: p.value for p in self.entries}
+        derived = {**self.fixed, **{p.name: p.value for p in self.entries}}
         for msg in doubts(names, values, _units(self.entries), derived, self.bodies, typed):
             warnings.warn(f"{where or self.owner}: {msg}", RuntimeWarning, stacklevel=5)
 
     def _values(self) -> dict[str, float]:
-        return dict(zip(self._index, self.vector.tolist()))
+        """Name -> SI value of every parameter, and the fixed body points (``fixed``)."""
+        return {**self.fixed, **dict(zip(self._index, self.vector.tolist()))}
 
     def replace(self, where: str = "", typed: dict | None = None, **values: float) -> Parameters:
         """A new Parameters with ``values`` (name -> SI value) changed, checked: an unknown
@@ -176,7 +181,8 @@ class Parameters(Mapping):
         the table's warnings on changed values unless ``warn`` is False (values that were
         judged already, a robot coming back from a pickle)."""
         if not checked:
-            out = Parameters(self.entries, vector, bodies=self.bodies, owner=self.owner)
+            out = Parameters(self.entries, vector, bodies=self.bodies, owner=self.owner,
+                             fixed=self.fixed)
             if warn:  # (the constructor checked the values)
                 out._warn(out._values(), [p.name for p, a, b in zip(
                     self.entries, out.vector, self.vector) if a != b], "", None)
@@ -189,9 +195,26 @@ class Parameters(Mapping):
         out = object.__new__(Parameters)
         out.entries, out.bodies, out.owner, out._index = (self.entries, self.bodies, self.owner,
                                                           self._index)
+        out.fixed = self.fixed
         vector.flags.writeable = False
         out.vector = vector
         return out
+
+
+def fixed_points(manifest: dict) -> dict[str, float]:
+    """The manifest's body points that are no parameter, named as parameters would be
+    (``px_<body>_<point>``, ``py_...``; m, body frame): a carriage's corners that only show
+    its size count in its extent at run time as in the description (a manifest from before
+    ``body_points``: none)."""
+    names = {p["name"] for p in manifest["parameters"]}
+    out = {}
+    for body, points in manifest.get("body_points", {}).items():
+        for point, xy in points.items():
+            for axis, v in zip("xy", xy):
+                name = f"p{axis}_{body}_{point}"
+                if name not in names:
+                    out[name] = float(v)
+    return out
 
 
 @functools.lru_cache(maxsize=64)

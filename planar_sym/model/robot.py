@@ -23,7 +23,7 @@ from .fast_paths import bind_fast_paths
 from .library import Library
 from .loop_functions import LoopFunctions
 from .loops import COND_LIMIT, LOOP_TOL_M
-from .parameter_set import Parameter, Parameters
+from .parameter_set import Parameter, Parameters, fixed_points
 
 # defined in their own modules; still importable from here, where they first were
 __all__ = ["COND_LIMIT", "LOOP_TOL_M", "Parameter", "Parameters", "Robot", "as_samples",
@@ -128,7 +128,7 @@ class Robot(LoopFunctions):
         #: new Robot); the compiled callers read its vector in place
         self._parameters = parameters if isinstance(parameters, Parameters) else Parameters(
             tuple(Parameter(**p) for p in m["parameters"]), parameters,
-            bodies=self.body_names, owner=self.name)
+            bodies=self.body_names, owner=self.name, fixed=fixed_points(m))
         self._fns = self.library.functions
         #: exact: CasADi's per-sample functions compiled without fast math. Otherwise the
         #: hot methods below are C-level callers of the vectorised loops (same algorithm,
