@@ -1615,11 +1615,25 @@ def gravity_too_small(ctx):
     _warned(ctx, SERIAL, ('acceleration = "m/s^2"', 'acceleration = "mm/s^2"'))
 
 
+@bad(DESC, "gravity in cm/s^2 typed with `acceleration = \"mm/s^2\"`: `gravity = [0.0, -981.0]`",
+     Warned,
+     r"bad\.toml: gravity: magnitude 0\.981 m/s\^2 is Earth's 9\.81 m/s\^2 times 1e-1: a unit or "
+     r"decimal slip\? \(cm/s\^2 typed as mm/s\^2 gives this",
+     "bad.toml: gravity: magnitude 0.981 m/s^2 is Earth's 9.81 m/s^2 times 1e-1: a unit or "
+     "decimal slip? (cm/s^2 typed as mm/s^2 gives this: give gravity in m/s^2; a robot on a "
+     "tilted table feels g sin(tilt), which may be anything: then ignore this)",
+     TP + "test_gravity_typed_in_cm_is_named_not_sent_to_mm")
+def gravity_cm_as_mm(ctx):
+    _warned(ctx, SERIAL, ("gravity = [0.0, -9.81]", "gravity = [0.0, -981.0]"),
+            ('acceleration = "m/s^2"', 'acceleration = "mm/s^2"'))
+
+
 @bad(DESC, "gravity ten times Earth's: `gravity = [0.0, -98.1]`", Warned,
      r"bad\.toml: gravity: magnitude 98\.1 m/s\^2 is more than any planet's \(Jupiter: 24\.8; a "
-     r"warning above 30 m/s\^2\); a unit or decimal slip\?",
+     r"warning above 30 m/s\^2\); it is Earth's 9\.81 m/s\^2 times 1e\+1: a decimal slip\?",
      "bad.toml: gravity: magnitude 98.1 m/s^2 is more than any planet's (Jupiter: 24.8; a "
-     "warning above 30 m/s^2); a unit or decimal slip?", TP + "test_gravity_bounds")
+     "warning above 30 m/s^2); it is Earth's 9.81 m/s^2 times 1e+1: a decimal slip?",
+     TP + "test_gravity_bounds")
 def gravity_high(ctx):
     _warned(ctx, SERIAL, ("gravity = [0.0, -9.81]", "gravity = [0.0, -98.1]"))
 

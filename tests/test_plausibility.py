@@ -166,6 +166,28 @@ def test_gravity_bounds(tmp_path, g, warns):
         assert texts[0].startswith(f"gravity: magnitude {float(g):.4g} m/s^2 is ")
 
 
+def test_gravity_typed_in_cm_is_named_not_sent_to_mm(tmp_path):
+    """-981 (cm/s^2 meant, a unit with no name here) with m/s^2 is refused, and the hint no
+    longer sends the user to mm/s^2 (0.981 m/s^2: ten times too small, which passed without a
+    word); typed with mm/s^2, that 0.981 m/s^2 is warned about as Earth's times 1e-1 (found in
+    a user trial: the exported model fell ten times too slowly)."""
+    problem = refused(edited(tmp_path, SERIAL, ("gravity = [0.0, -9.81]",
+                                                "gravity = [0.0, -981.0]")))
+    assert problem == ("gravity: magnitude 981 m/s^2 is above 300 m/s^2 (the Sun's surface "
+                       "gives 274; run-time parameters are refused beyond it too); it is "
+                       "Earth's 9.81 m/s^2 times 1e+2: a decimal slip, or cm/s^2 (no unit "
+                       "here: give it in m/s^2)?")
+    texts = warned(edited(tmp_path, SERIAL, ("gravity = [0.0, -9.81]", "gravity = [0.0, -981.0]"),
+                          ('acceleration = "m/s^2"', 'acceleration = "mm/s^2"')))
+    assert texts == ["gravity: magnitude 0.981 m/s^2 is Earth's 9.81 m/s^2 times 1e-1: a unit or "
+                     "decimal slip? (cm/s^2 typed as mm/s^2 gives this: give gravity in m/s^2; "
+                     "a robot on a tilted table feels g sin(tilt), which may be anything: then "
+                     "ignore this)"]
+    for g in ("1.0", "0.9", "3.71"):  # not Earth's times a power of ten (2%): no word
+        assert warned(edited(tmp_path, SERIAL, ("gravity = [0.0, -9.81]",
+                                                f"gravity = [0.0, -{g}]"))) == []
+
+
 def test_gravity_just_above_the_limit_is_an_error(tmp_path):
     problem = refused(edited(tmp_path, SERIAL, ("gravity = [0.0, -9.81]",
                                                 "gravity = [300.5, 0.0]")))

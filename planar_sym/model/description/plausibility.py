@@ -85,7 +85,14 @@ class Plausibility(Fields):
         if g == 0.0 or not isinstance(unit, str) or unit not in UNITS["acceleration"]:
             return
         hint = _gravity_units(g, unit)
-        if g > G_LIMIT:
+        power = _earth_power(g)
+        if power and G_LOW <= g <= G_HIGH:  # 0.981 from -981 typed in mm/s^2 (cm/s^2 meant)
+            self.warn("gravity", f"magnitude {g:.4g} m/s^2 is Earth's 9.81 m/s^2 times "
+                                 f"1e{power:+d}: a unit or decimal slip? (cm/s^2 typed as "
+                                 "mm/s^2 gives this: give gravity in m/s^2; a robot on a tilted "
+                                 "table feels g sin(tilt), which may be anything: then ignore "
+                                 "this)")
+        elif g > G_LIMIT:
             self.err("gravity", f"magnitude {g:.4g} m/s^2 is above {G_LIMIT:g} m/s^2 (the Sun's "
                                 f"surface gives 274; run-time parameters are refused beyond it "
                                 f"too); {hint}")
@@ -278,8 +285,30 @@ def _other_units(span: float, unit) -> str:
             if alts else "a unit or decimal-point slip?")
 
 
+#: Earth's standard gravity (m/s^2): a magnitude that is it times a power of ten is a slip
+G_EARTH = 9.80665
+
+
+def _earth_power(g: float) -> int:
+    """k != 0 where ``g`` (m/s^2) is Earth's gravity times 10^k to within 1% (981 is 1e2:
+    cm/s^2), else 0."""
+    k = round(math.log10(g / G_EARTH))
+    return k if k and abs(g / 10.0**k / G_EARTH - 1.0) < 0.01 else 0
+
+
 def _gravity_units(g: float, unit: str) -> str:
+    """How a gravity outside the planets' range may have been meant: a unit that makes it
+    Earth's, else Earth's times a power of ten (cm/s^2, which has no name here), else the
+    units that bring it into the planets' range."""
     table = UNITS["acceleration"]
+    earth = [u for u, f in table.items()
+             if u != unit and abs(g * f / table[unit] / G_EARTH - 1.0) < 0.01]
+    if earth:
+        return (f'typed in another unit? (units.acceleration = "{earth[0]}" makes it '
+                f"{g * table[earth[0]] / table[unit]:.4g} m/s^2)")
+    if power := _earth_power(g):
+        unit_slip = ", or cm/s^2 (no unit here: give it in m/s^2)" if power == 2 else ""
+        return f"it is Earth's 9.81 m/s^2 times 1e{power:+d}: a decimal slip{unit_slip}?"
     alts = [f'units.acceleration = "{u}" makes it {g * f / table[unit]:.4g} m/s^2'
             for u, f in table.items() if u != unit and G_LOW <= g * f / table[unit] <= G_HIGH]
     return f"typed in another unit? ({', '.join(alts)})" if alts else "a unit or decimal slip?"
