@@ -336,3 +336,27 @@ def test_saved_study_names_a_description_file_relative_to_itself(tmp_path, capsy
     again = run(moved / "studies" / "swing.toml")  # still finds its robot
     first = np.genfromtxt(tmp_path / "out" / "pendulum_move.csv", delimiter=",", names=True)
     np.testing.assert_array_equal(again.columns["tau1_n_m"], first["tau1_n_m"])
+
+
+def test_a_robot_without_a_task_or_a_motor_is_said_so(tmp_path):
+    """'needs 0 values, one per task coordinate ()' said nothing useful (user trial): a robot
+    with no [task] is told to move in joint space, one with no actuated joint that nothing
+    takes a torque."""
+    robots = Path(__file__).resolve().parent / "robots"
+    path = write(tmp_path, f'robot = "{robots / "cart_pole.toml"}"\nkind = "inverse"\n'
+                 '[motion]\nspace = "task"\nstart = [0.2, 0.0]\nby = [0.1, 0.0]\nduration = 1\n')
+    with pytest.raises(InputError) as exc:
+        run(path)
+    assert str(exc.value).endswith("motion.start: " + str(robots / "cart_pole.toml")
+                                   + ' has no task point (no [task] in its description): move '
+                                   'its joints instead (space = "joint") (got 2 values)')
+    free = tmp_path / "free_pendulum.toml"
+    free.write_text((robots / "point_pendulum.toml").read_text().replace(
+        "actuated = true", "actuated = false"))
+    path = write(tmp_path, f'robot = "{free}"\nkind = "forward"\n[simulation]\nq0 = [0.5]\n'
+                 'duration = 0.1\ntorque = [5.0]\n', name="push.toml")
+    with pytest.raises(InputError) as exc:
+        run(path)
+    assert str(exc.value).endswith(f"simulation.torque: {free} has no actuated joint (every "
+                                   "joint is passive): nothing takes a torque; mark the driven "
+                                   "joint actuated = true in its description (got 1 value)")

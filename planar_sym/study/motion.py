@@ -225,6 +225,13 @@ def profile_at(st: specs.Study, robot: Robot, t: np.ndarray | None) -> Trajector
 
 
 def check_width(st, fld: str, values, width: int, what: str) -> None:
+    if len(values) and not width and what.startswith(("task coordinate", "actuated joint")):
+        why = ("has no task point (no [task] in its description): move its joints instead "
+               '(space = "joint")' if what.startswith("task") else
+               "has no actuated joint (every joint is passive): nothing takes a torque; mark "
+               "the driven joint actuated = true in its description")
+        raise InputError(f"{st.path or st.name}: {fld}: {st.robot} {why} (got {len(values)} "
+                         f"value{'' if len(values) == 1 else 's'})")
     if len(values) != width:
         raise InputError(f"{st.path or st.name}: {fld}: {st.robot} needs {width} "
                          f"value{'' if width == 1 else 's'}, one per {what} (got {len(values)})")
