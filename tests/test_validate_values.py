@@ -473,15 +473,16 @@ def test_free_motion_push_rule(robots, monkeypatch):
 
 def test_energy_row_labels():
     sim = SimpleNamespace(t_s=np.array([0.0, 0.2, 0.5]), kinetic_j=np.array([0.0, 2.5, 1.0]),
-                          energy_drift=1e-8, friction_j=None, balance_residual=None)
+                          energy_j=np.full(3, 3.0), energy_drift=1e-8, friction_j=None,
+                          balance_residual=None)
     assert validate.check_energy(sim) == rows.Row(
         "(c) energy drift, free motion 0.5 s", 1e-8, 1e-8, "pass",
         "relative; peak kinetic energy 2.5 J")
     sim.energy_drift = np.nextafter(1e-8, 1.0)
     assert validate.check_energy(sim).status == "FAIL"
     sim = SimpleNamespace(t_s=np.array([0.0, 1.0, 2.0]), kinetic_j=np.array([0.0, 2.5, 1.0]),
-                          energy_drift=1.0, friction_j=np.array([0.0, 0.0625, 0.125]),
-                          balance_residual=2e-8)
+                          energy_j=np.array([3.0, 2.9, 2.8]), energy_drift=1.0,
+                          friction_j=np.array([0.0, 0.0625, 0.125]), balance_residual=2e-8)
     assert validate.check_energy(sim) == rows.Row(
         "(c) energy balance with friction, free motion 2 s", 2e-8, 1e-8, "FAIL",
         "relative; peak kinetic energy 2.5 J, friction work 0.125 J")
@@ -608,7 +609,8 @@ def _light(monkeypatch, calls):
         return rows.Row("(a) stub", 0.0, 1e-11, "pass")
 
     sim = SimpleNamespace(t_s=np.array([0.0, 1.0]), kinetic_j=np.array([0.0, 1.0]),
-                          energy_drift=0.0, friction_j=None, constraint_drift_m=0.0)
+                          energy_j=np.ones(2), energy_drift=0.0, friction_j=None,
+                          constraint_drift_m=0.0)
 
     def free(robot, seconds):
         calls.append(("c", seconds))
@@ -706,3 +708,21 @@ def test_run_all_refuses_what_is_not_a_robot():
     with pytest.raises(PlanarSymError, match=r"^validate needs a Robot \(planar_sym\.load\), "
                                              r"got str$"):
         validate.run_all("serial_2dof")
+
+
+def test_a_free_motion_that_does_not_move_is_pushed_or_skipped():
+    """(c) on a motorless pendulum drawn hanging at rest passed with a drift of 0 and a peak
+    kinetic energy of 1e-30 J (user trial): it is now pushed at every joint (a tree without
+    actuators), and its drift is measured on a real swing, checked against the energy the
+    push gave, 1/2 J w^2 with w = 1 rad/s about the pivot (J = 100/12 + 1 * 5^2 + 5 * 10^2)."""
+    robot = ps.load(str(TEST_ROBOTS / "hanging_pendulum.toml"))
+    sim = validate.free_motion(robot)
+    assert sim.kinetic_j[0] == pytest.approx(0.5 * (100 / 12 + 25 + 500), rel=1e-12)
+    got = validate.check_energy(sim)
+    assert got.status == "pass" and got.worst < 1e-8 and got.worst > 0.0
+    quiet = SimpleNamespace(t_s=sim.t_s, kinetic_j=np.full(len(sim.t_s), 1e-30),
+                            energy_j=np.full(len(sim.t_s), -531.4), friction_j=None,
+                            energy_drift=0.0)
+    skipped = validate.check_energy(quiet)
+    assert skipped.status == "skipped" and skipped.worst is None
+    assert skipped.detail == "the free motion does not move (peak kinetic energy 1e-30 J)"
