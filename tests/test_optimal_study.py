@@ -194,6 +194,17 @@ def test_each_field_of_the_optimal_table_is_named(table, message):
     assert len(err.value.problems) == 1 and message in err.value.problems[0], err.value.problems
 
 
+def test_a_tracking_run_shorter_than_its_move_is_refused_too(tmp_path):
+    """The same rule on a tracking study (a user trial's slip): control.duration 3 s of the
+    S3 arm's 5 s move stopped in the middle of it without a word."""
+    study = (ROOT / "planar_sym" / "studies" / "serial_2dof_cartesian_track.toml").read_text()
+    short = tmp_path / "short.toml"
+    short.write_text(study.replace("duration = 6.0", "duration = 3.0"))
+    with pytest.raises(ps.InputError, match="short.toml: control.duration 3 s ends before the "
+                                            "move it tracks \\(5 s\\)"):
+        ps.run_study(short)
+
+
 def test_a_run_shorter_than_its_move_and_weights_of_the_wrong_width_are_named(tmp_path):
     """A student's slips in an optimal study tracked by LQR: a run that would stop in the
     middle of the move (silently unfinished before), a q_weight of three values for a

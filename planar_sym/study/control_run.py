@@ -44,12 +44,14 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
 
         move, found = plan(st, robot)
         jt, tau = move.trajectory, move.tau
-        if cs.duration_s is not None and cs.duration_s < move.duration_s * (1 - 1e-9):
-            raise InputError(f"{where}: control.duration {cs.duration_s:g} s ends before the "
-                             f"move it tracks ({move.duration_s:.4g} s): lengthen it, or leave "
-                             "it out (the move's own duration)")
     else:
         jt, _ = joint_motion(st, robot)
+    # one rule for every control study: a run cut short of its move stopped mid-move in silence
+    move_s = float(jt.t_s[-1] - jt.t_s[0])
+    if cs.duration_s is not None and cs.duration_s < move_s * (1 - 1e-9):
+        raise InputError(f"{where}: control.duration {cs.duration_s:g} s ends before the "
+                         f"move it tracks ({move_s:.4g} s): lengthen it, or leave it out (the "
+                         "move's own duration)")
     # a torque input must cover the run: to the motion's end if no duration is given
     torque = torque_input(st, robot, cs.torque, cs.duration_s or float(jt.t_s[-1]),
                           "control.torque")
