@@ -92,3 +92,23 @@ def test_a_sweep_range(tmp_path):
     with pytest.raises(InputError, match=r"design 0 \(gear_joint1 = -10\) is not physical: "
                                          r"parameter gear_joint1 \(gear ratio\) must be > 0"):
         ps.sweep(study, {"gear_joint1": [-10.0, 10.0, 50.0]})
+
+
+def test_a_value_typed_with_its_unit_reads_the_same_on_every_route():
+    """with_parameters takes "500 g" as a study's [parameters] and --set do (it refused it:
+    "must be a number in kg", user trial): the same SI value as the study route's conversion,
+    as 0.5 in SI, and a unit of the wrong quantity is named."""
+    from planar_sym.study.parameters import to_si
+
+    arm = ps.load("serial_2dof")
+    typed = arm.with_parameters(m_motor2="500 g", izz_link1="90.992 kg*mm^2")
+    assert typed.parameters["m_motor2"] == 0.5 == to_si(arm, {"m_motor2": (500.0, "g")})[
+        "m_motor2"]
+    assert typed.parameters["izz_link1"] == pytest.approx(90.992e-6, rel=1e-15)
+    assert np.array_equal(typed.p, arm.with_parameters(m_motor2=0.5,
+                                                       izz_link1=90.992e-6).p)
+    with pytest.raises(InputError, match=r"serial_2dof: parameter m_motor2: unknown mass unit "
+                                         r"'mm'"):
+        arm.with_parameters(m_motor2="500 mm")
+    with pytest.raises(InputError, match=r"parameter m_motor2 .*must be > 0"):
+        arm.with_parameters(m_motor2="-5 g")

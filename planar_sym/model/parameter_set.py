@@ -17,8 +17,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..expressions import ExpressionError, quantity
 from .arrays import as_samples
 from .parameters import doubts, problems
+from .units import factor
+
+#: SI unit of a parameter (as the manifest writes it) -> the quantity of the units table
+QUANTITY = {"kg": "mass", "kg*m^2": "inertia", "m": "length", "m/s^2": "acceleration",
+            "rad": "angle"}
 
 
 @dataclass(frozen=True)
@@ -149,6 +155,22 @@ class Parameters(Mapping):
     def _values(self) -> dict[str, float]:
         """Name -> SI value of every parameter, and the fixed body points (``fixed``)."""
         return {**self.fixed, **dict(zip(self._index, self.vector.tolist()))}
+
+    def read(self, name: str, text: str) -> tuple[float, tuple[float, str]]:
+        """(SI value, (value, unit) as typed) of a value typed with its unit, ``"500 g"``, by
+        the rule a study's [parameters] and ``--set`` use; a bare number is SI. InputError
+        names the parameter."""
+        try:
+            value, unit = quantity(text)
+        except ExpressionError as exc:
+            raise InputError(f"{self.owner}: parameter {name}: {exc}") from None
+        si = self.unit(name)
+        unit = unit or si
+        kind = QUANTITY.get(si)
+        try:
+            return value * (factor(kind, unit) if kind else 1.0), (value, unit)
+        except KeyError as exc:
+            raise InputError(f"{self.owner}: parameter {name}: {exc.args[0]}") from None
 
     def replace(self, where: str = "", typed: dict | None = None, **values: float) -> Parameters:
         """A new Parameters with ``values`` (name -> SI value) changed, checked: an unknown

@@ -206,16 +206,23 @@ class Robot(LoopFunctions):
 
         Parameters
         ----------
-        **values : float
+        **values : float or str
             Parameter name -> new value in SI (kg, m, kg*m^2, m/s^2: the ``unit`` of its
-            ``parameter_list`` entry), e.g. ``m_motor2=0.5``.
+            ``parameter_list`` entry), e.g. ``m_motor2=0.5``, or typed with its unit as in a
+            study's [parameters] and ``--set``, ``m_motor2="500 g"``.
 
         Returns
         -------
         Robot
             The same compiled code with the new parameter vector ``p``.
         """
-        return self.with_values(self._parameters.replace(**values))
+        si, typed = {}, {}
+        for name, v in values.items():
+            if isinstance(v, str) and name in self._parameters:
+                si[name], typed[name] = self._parameters.read(name, v)
+            else:
+                si[name] = v
+        return self.with_values(self._parameters.replace(typed=typed or None, **si))
 
     def with_values(self, parameters: Parameters) -> Robot:
         """The same compiled code with ``parameters`` (made from this robot's own by

@@ -7,12 +7,9 @@ from __future__ import annotations
 import tomllib
 
 from ..errors import InputError
+from ..model.parameter_set import QUANTITY
 from ..model.robot import Robot
 from ..model.units import factor
-
-#: SI unit of a parameter (as the manifest writes it) -> the quantity of the units table
-QUANTITY = {"kg": "mass", "kg*m^2": "inertia", "m": "length", "m/s^2": "acceleration",
-            "rad": "angle"}
 
 
 def description_units(robot: Robot) -> dict[str, str] | None:
