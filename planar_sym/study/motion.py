@@ -4,9 +4,12 @@ task space, the loops for a closed chain's passive joints), and checked start po
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ..errors import InputError
+from ..model.description.types import ANGLE_TURN_RAD
 from ..model.robot import Robot
 from ..motion.closure import complete_state
 from ..motion.profiles import JointTrajectory, Trajectory
@@ -21,6 +24,10 @@ def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
     At ``samples`` evenly spaced times (default the study's), or at the times ``t`` (s).
     """
     m = st.motion
+    if m.space != "task":
+        coords = robot.actuated if robot.is_closed_chain else range(robot.n)
+        any(_warn_turns(st, robot, f"motion.{key}", getattr(m, key, None), coords)
+            for key in ("start", "by", "end"))  # one warning for one slip
     tr = trajectory(st, robot, samples) if t is None else profile_at(st, robot, np.asarray(t))
     q_start = start_pose(st, robot)  # picks the assembly (and working) mode
     if m.space == "task":
@@ -76,6 +83,22 @@ START_POSE_GAP_M = 1e-3
 STATE_GAP_M = 1e-9
 
 
+def _warn_turns(st: specs.Study, robot: Robot, fld: str, values, coords) -> bool:
+    """Warn where a joint angle typed in radians (the default) exceeds a turn, as the
+    description does for its drawn angles: 360 meant in degrees ran 57 turns in a second.
+    True when it warned."""
+    if values is None or st.angle_si != 1.0:
+        return False
+    for k, (i, v) in enumerate(zip(coords, values)):
+        if robot.coordinate_units[i] == "rad" and abs(v) > ANGLE_TURN_RAD:
+            warnings.warn(f"{st.path or st.name}: {fld}[{k}] = {v:g} rad is "
+                          f"{abs(v) / ANGLE_TURN_RAD:.3g} turns (a warning beyond one): were "
+                          f"the angles typed in degrees? ([units] angle = \"deg\" makes it "
+                          f"{v:g} deg)", RuntimeWarning, stacklevel=4)
+            return True
+    return False
+
+
 def coordinate_scale(st: specs.Study, robot: Robot) -> np.ndarray:
     """SI factor of each coordinate as a study file gives it: its length unit for a prismatic
     joint, its angle unit for a revolute one."""
@@ -99,6 +122,8 @@ def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray
     rates from qd0 (actuated joints too)."""
     s, scale = st.simulation, coordinate_scale(st, robot)
     n_act = len(robot.actuated)
+    short = robot.is_closed_chain and len(s.q0) == n_act
+    _warn_turns(st, robot, "simulation.q0", s.q0, robot.actuated if short else range(robot.n))
     if robot.is_closed_chain and len(s.q0) == n_act:
         act = list(robot.actuated)
         qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0)
