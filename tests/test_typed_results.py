@@ -326,3 +326,24 @@ def test_a_sweeps_columns_are_typed():
     assert [ax.get_ylabel() for ax in fig.axes] == ["peak_tau1 (N*m)", "peak_tau2 (N)",
                                                     "peak_tau3 (N*m)"]
     assert fig.axes[-1].get_xlabel() == label(result, "m_boom_kg") == "m_boom (kg)"
+
+
+def test_a_control_figure_shows_the_passive_joints_a_full_state_law_tracks():
+    """The cart-pole swing-up's figure showed only the cart (user trial): a coordinate with a
+    tracking error series (a full-state law's passive one) gets its own panel, said passive,
+    with the actuated ones'; the torque axis label fits its panel."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from planar_sym.outputs.plots import control_figure
+
+    t = np.linspace(0.0, 1.0, 5)
+    data = [Series("t", "s", t), Series("q", "m", t, index=0), Series("q", "rad", -t, index=1),
+            Series("q_ref", "m", t, index=0), Series("e", "m", 0 * t, index=0),
+            Series("e", "rad", 0 * t, index=1), Series("tau", "N", t, index=0),
+            Series("tau_cmd", "N", t, index=0)]
+    fig = control_figure(Result("r", "swing", data, "control", actuated=(0,)))
+    labels = [ax.get_ylabel() for ax in fig.axes]
+    assert labels == ["q1 (mm)", "q2 (deg), passive", "error q_ref - q",
+                      "torque (-- commanded)"], labels
+    np.testing.assert_allclose(fig.axes[1].lines[0].get_ydata(), np.degrees(-t), rtol=1e-15)

@@ -99,38 +99,43 @@ COORDINATE_SHOWN = {"rad": (180 / np.pi, "deg"), "m": (1e3, "mm")}
 
 
 def control_figure(result: Result):
-    """A control study: per actuated joint its reference (dashed) and actual motion (deg, or
-    mm for a slider); the tracking errors; the commanded (dashed) and applied torques (N*m or
+    """A control study: per tracked joint (the actuated ones, and the passive ones a full-state
+    law tracks) its reference (dashed) and actual motion (deg, or mm for a slider); the
+    tracking errors; the commanded (dashed) and applied torques (N*m or
     N); and, for a robot with a tool point, the tool's distance from its reference (mm)."""
     t = result.get("t").values
     act = list(result.actuated)
+    # every coordinate the controller tracks: the actuated ones, and a full-state law's
+    # passive ones too (the cart-pole's pole is the point of its swing-up)
+    tracked = sorted(set(act) | {e.index for e in result.series("e")})
     task = result.series("e_task")
-    fig, axes = _axes(len(act) + 2 + bool(task))
-    for ax, i in zip(axes, act):
+    fig, axes = _axes(len(tracked) + 2 + bool(task))
+    for ax, i in zip(axes, tracked):
         q = result.get("q", i)
         scale, shown = COORDINATE_SHOWN[q.unit]
-        ax.plot(t, result.get("q_ref", i).values * scale, "--", color="grey", lw=1.6,
-                label="reference")
+        if result.series("q_ref", i):
+            ax.plot(t, result.get("q_ref", i).values * scale, "--", color="grey", lw=1.6,
+                    label="reference")
         ax.plot(t, q.values * scale, color="tab:blue", lw=1.3, label="actual")
-        ax.set_ylabel(f"{q.stem} ({shown})")
+        ax.set_ylabel(f"{q.stem} ({shown})" + ("" if i in act else ", passive"))
         ax.grid(True, alpha=0.4)
     axes[0].legend(fontsize=7, loc="best")
-    ax = axes[len(act)]
-    for i in act:
+    ax = axes[len(tracked)]
+    for i in tracked:
         e = result.get("e", i)
         scale, shown = COORDINATE_SHOWN[e.unit]
         ax.plot(t, e.values * scale, lw=1.3, label=f"{e.stem} ({shown})")
     ax.axhline(0.0, color="grey", lw=0.6)
     ax.set_ylabel("error q_ref - q")
-    ax.legend(fontsize=7, ncol=len(act), loc="best")
+    ax.legend(fontsize=7, ncol=len(tracked), loc="best")
     ax.grid(True, alpha=0.4)
-    ax = axes[len(act) + 1]
+    ax = axes[len(tracked) + 1]
     for k, i in enumerate(act):
         tau = result.get("tau", i)
         colour = f"C{k}"
         ax.plot(t, result.get("tau_cmd", i).values, "--", color=colour, lw=1.0)
         ax.plot(t, tau.values, color=colour, lw=1.4, label=f"{tau.stem} ({tau.unit})")
-    ax.set_ylabel("torque: applied, commanded --")
+    ax.set_ylabel("torque (-- commanded)")
     ax.legend(fontsize=7, ncol=len(act), loc="best")
     ax.grid(True, alpha=0.4)
     if task:
