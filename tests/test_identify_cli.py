@@ -117,3 +117,22 @@ def test_excite_names_a_negative_duration(tmp_path, capsys):
                  str(tmp_path / "e.toml")]) == 2
     assert "--duration must be a positive number of seconds, got -3" in capsys.readouterr().err
     assert not (tmp_path / "e.toml").exists()
+
+
+def test_friction_zero_to_rounding_in_noiseless_data_is_left_out(tmp_path, capsys):
+    """The first-robot tutorial's S3 move identified on its own (noiseless) torques: Coulomb
+    friction came out 4e-18 N*m with a standard deviation smaller still, and identify refused,
+    asking for a friction entry in the description (user trial). Below ``ROUNDING`` it is zero:
+    left out with a warning, the rest identified (the masses to the description's)."""
+    study = tmp_path / "my_move.toml"
+    study.write_text('robot = "serial_2dof"\nkind = "inverse"\n[units]\nlength = "mm"\n'
+                     'angle = "deg"\n[motion]\nspace = "task"\nprofile = "cubic"\n'
+                     "start = [100.0, 100.0]\nby = [-200.0, 0.0]\nduration = 5.0\n"
+                     "samples = 201\nstart_pose = [0.0, 90.0]\n")
+    assert main(["run", str(study), "--out", str(tmp_path), "--quiet"]) == 0
+    rc = main(["identify", "serial_2dof", "--data", str(tmp_path / "my_move.csv"),
+               "--out", str(tmp_path / "id"), "--quiet"])
+    err = capsys.readouterr().err
+    assert rc == 0, err
+    assert "warning: serial_2dof: left out " in err and "fc_joint2 = " in err, err
+    assert (tmp_path / "id" / "identified_robot.toml").is_file()

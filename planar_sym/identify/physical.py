@@ -135,13 +135,21 @@ def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
                        float(np.linalg.norm(res.x[:nb])), active)
 
 
+#: drive-train values no robot has, SI (N*m or N of friction, N*m*s of viscous friction,
+#: kg*m^2 of rotor inertia): an estimate this small is zero to rounding, even where noiseless
+#: data make its standard deviation smaller still (4e-18 N*m of Coulomb friction from a
+#: simulated S3 move, which asked the user to change the description)
+ROUNDING = {"fc": 1e-9, "fv": 1e-9, "jm": 1e-12}
+
+
 def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robot:
     """``robot`` with the fit's values: masses, centres of gravity and inertias about them, and
     the drive train's rotor inertia and friction where the description has a place for them.
 
     A friction or rotor inertia the description has no place for is left out, with a warning,
     when the data cannot tell it from zero (within 3 standard deviations of its base
-    parameter); otherwise InputError names it and says where it would go.
+    parameter, not a base parameter of this data at all, or below ``ROUNDING``);
+    otherwise InputError names it and says where it would go.
     """
     v = fit.standard.as_dict()
     std = dict(zip((n.removesuffix("R") for n in estimate.base.names), estimate.std))
@@ -162,9 +170,9 @@ def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robo
         elif kind in ("jm", "fv", "fc"):
             if name in par:
                 values[name] = value
-            elif abs(value) > 3 * std.get(name, 0.0):
+            elif name in std and abs(value) > max(3 * std[name], ROUNDING[kind]):
                 homeless.append(f"{name} = {value:.6g}")
-            elif value != 0.0:
+            elif value != 0.0:  # near zero, or not a base parameter: the data cannot tell
                 dropped.append(f"{name} = {value:.3g}")
     if homeless:
         raise InputError(f"{robot.name}: the description has no place for the identified "
@@ -172,6 +180,7 @@ def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robo
                          "viscous_friction and coulomb_friction (0 will do) and identify again")
     if dropped:
         warnings.warn(f"{robot.name}: left out {', '.join(dropped)} (within 3 standard "
-                      "deviations of zero; the description has no place for them)",
+                      "deviations of zero, or not determined by this data; the description has "
+                      "no place for them)",
                       RuntimeWarning, stacklevel=2)
     return robot.with_parameters(**values)
