@@ -387,3 +387,15 @@ def test_joint_angles_beyond_a_turn_in_radians_warn_once(tmp_path):
             warnings.simplefilter("always")
             run(path)
         assert not [str(w.message) for w in caught if "turns" in str(w.message)]
+
+
+def test_a_robot_description_given_as_a_study_is_one_message(tmp_path, capsys):
+    """A robot file where a study is expected gave ten 'unknown key' lines and 'robot:
+    missing' (user trial): one message says what it is and what a study needs."""
+    robot = Path(__file__).resolve().parent / "robots" / "pendulum.toml"
+    assert main(["run", str(robot), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"error: invalid study:\n  {robot}: a robot description, not a study: a "
+                   'study names its robot (robot = "<this file>") and says what to do with it '
+                   "(kind, [motion]...); `planar-sym move` runs one move of a robot without a "
+                   "study\n")
