@@ -23,3 +23,15 @@ def test_move_refusals_name_the_options(tmp_path, capsys, argv, words):
     err = capsys.readouterr().err
     assert words in err and "motion." not in err, err
     assert not list(tmp_path.iterdir()), "nothing half-written"
+
+
+def test_a_robot_name_where_a_study_is_expected_points_to_move(capsys):
+    """`planar-sym animate serial_2dof` said only 'unknown study' (user trial); a misspelt
+    study name gets the nearest one."""
+    assert main(["animate", "serial_2dof"]) == 2
+    err = capsys.readouterr().err
+    assert err.rstrip().endswith("; serial_2dof is a robot: `planar-sym move serial_2dof ...` "
+                                 "runs a move of it without a study"), err
+    assert main(["run", "serial_2dof_cartesain_move"]) == 2
+    assert capsys.readouterr().err.rstrip().endswith(
+        "nor a study file (.toml); did you mean 'serial_2dof_cartesian_move'?")

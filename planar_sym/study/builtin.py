@@ -22,6 +22,10 @@ def find(name: str) -> Path:
     """The file of a built-in study; an unknown name lists the known ones."""
     path = studies_dir() / f"{name}.toml"
     if not path.is_file():
+        from ..model.description import builtin_robots
+
+        robot = (f"; {name} is a robot: `planar-sym move {name} ...` runs a move of it without "
+                 "a study" if name in builtin_robots() else did_you_mean(name, names()))
         raise InputError(f"unknown study {name!r}: not a built-in study ({', '.join(names())}) "
-                         f"nor a study file (.toml){did_you_mean(name, names())}")
+                         f"nor a study file (.toml){robot}")
     return path
