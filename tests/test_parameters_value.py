@@ -44,7 +44,11 @@ def test_parameters_are_a_read_only_mapping(arm):
     with pytest.raises(TypeError, match=r"read-only .* robot.with_parameters\(g=1.0\)"):
         p["g"] = 1.0  # type: ignore[index]
     with pytest.raises(InputError, match=r"parameter m_link1 must be a number in kg \(SI; "):
-        arm.with_parameters(m_link1="2 kg")  # a unit typed into the API, which takes SI
+        arm.with_parameters(m_link1=[2.0])
+    # a unit typed into the API is read as --set and a study read it
+    assert arm.with_parameters(m_link1="2 kg").parameters["m_link1"] == 2.0
+    with pytest.raises(InputError, match=r"parameter m_link1: \"heavy\": unknown name heavy"):
+        arm.with_parameters(m_link1="heavy")
 
 
 def test_a_changed_robot_computes_with_its_own_values(arm):

@@ -172,6 +172,16 @@ class Parameters(Mapping):
         except KeyError as exc:
             raise InputError(f"{self.owner}: parameter {name}: {exc.args[0]}") from None
 
+    def replace_typed(self, **values) -> Parameters:
+        """``replace`` of values in SI or typed with their unit (``"500 g"``, ``read``)."""
+        si, typed = {}, {}
+        for name, v in values.items():
+            if isinstance(v, str) and name in self._index:
+                si[name], typed[name] = self.read(name, v)
+            else:
+                si[name] = v
+        return self.replace(typed=typed or None, **si)
+
     def replace(self, where: str = "", typed: dict | None = None, **values: float) -> Parameters:
         """A new Parameters with ``values`` (name -> SI value) changed, checked: an unknown
         name, a value that is not a finite number or one a rule refuses raises InputError

@@ -197,8 +197,8 @@ class Robot(LoopFunctions):
         parameter vector ``p``, one sample as columns)."""
         return self.library.casadi_function(quantity)
 
-    def with_parameters(self, **values: float) -> Robot:
-        """A copy with some parameters changed (SI units), no re-derivation needed.
+    def with_parameters(self, **values: float | str) -> Robot:
+        """A copy with some parameters changed, no re-derivation needed.
 
         The new values pass the description's physical checks (``model.parameters``): positive
         masses, plausible inertias, finite values, a plausible gravity; else InputError names
@@ -207,22 +207,15 @@ class Robot(LoopFunctions):
         Parameters
         ----------
         **values : float or str
-            Parameter name -> new value in SI (kg, m, kg*m^2, m/s^2: the ``unit`` of its
-            ``parameter_list`` entry), e.g. ``m_motor2=0.5``, or typed with its unit as in a
-            study's [parameters] and ``--set``, ``m_motor2="500 g"``.
+            Name -> value in SI (the ``unit`` of its ``parameter_list`` entry), ``m_motor2=0.5``,
+            or typed with its unit as a study or ``--set`` would, ``m_motor2="500 g"``.
 
         Returns
         -------
         Robot
             The same compiled code with the new parameter vector ``p``.
         """
-        si, typed = {}, {}
-        for name, v in values.items():
-            if isinstance(v, str) and name in self._parameters:
-                si[name], typed[name] = self._parameters.read(name, v)
-            else:
-                si[name] = v
-        return self.with_values(self._parameters.replace(typed=typed or None, **si))
+        return self.with_values(self._parameters.replace_typed(**values))
 
     def with_values(self, parameters: Parameters) -> Robot:
         """The same compiled code with ``parameters`` (made from this robot's own by
