@@ -65,6 +65,10 @@ class Parameters(Mapping):
         The robot's moving bodies, which the inertial rules read (``m_<body>``, ...).
     owner : str
         What the values belong to (the robot's name), at the head of a refusal.
+    fixed : dict of str to float, optional
+        The bodies' points that are no parameter, named as parameters would be
+        (``px_<body>_<point>``, m, body frame; ``fixed_points``): the inertial rules measure a
+        body's extent from all its points, as the description's do.
 
     Attributes
     ----------
@@ -72,6 +76,7 @@ class Parameters(Mapping):
     vector : ndarray, shape (len(entries),)
         The values (SI), read-only: the array every compiled call reads.
     bodies : tuple of str
+    fixed : dict of str to float
     """
 
     __slots__ = ("_index", "bodies", "entries", "fixed", "owner", "vector")
@@ -81,8 +86,6 @@ class Parameters(Mapping):
                  fixed: dict[str, float] | None = None):
         self.entries = tuple(entries)
         self.bodies = tuple(bodies)
-        #: the body points that are no parameter, named as parameters would be (``px_<body>_
-        #: <point>``, m): the rules measure a body's extent with them, as the description does
         self.fixed = dict(fixed or {})
         self.owner = owner
         self._index = {p.name: k for k, p in enumerate(self.entries)}
