@@ -347,3 +347,18 @@ def test_a_control_figure_shows_the_passive_joints_a_full_state_law_tracks():
     assert labels == ["q1 (mm)", "q2 (deg), passive", "error q_ref - q",
                       "torque (-- commanded)"], labels
     np.testing.assert_allclose(fig.axes[1].lines[0].get_ydata(), np.degrees(-t), rtol=1e-15)
+
+
+def test_a_figure_of_an_untitled_study_names_it_once():
+    """A study without a title has its name as its summary: the figure said 'swing' twice
+    (user trial)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from planar_sym.outputs.plots import figure
+
+    t = np.linspace(0.0, 1.0, 3)
+    data = [Series("t", "s", t), Series("q", "rad", t, index=0), Series("tau", "N*m", t, index=0)]
+    assert figure(Result("swing", "swing", data, "angles"))._suptitle.get_text() == "swing"
+    assert figure(Result("swing", "A pendulum", data, "angles"))._suptitle.get_text() == (
+        "swing\nA pendulum")

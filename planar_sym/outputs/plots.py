@@ -51,7 +51,9 @@ def _finish(fig, axes, result: Result, title: str) -> None:
     import textwrap
 
     axes[-1].set_xlabel("time t (s)")
-    fig.suptitle(f"{result.name}\n{title}", fontsize=9)
+    # a study without a title is titled by its name: once, not "swing / swing"
+    fig.suptitle(result.name if title in ("", result.name) else f"{result.name}\n{title}",
+                 fontsize=9)
     lines = textwrap.wrap(result.note, 120)
     if lines:
         fig.text(0.01, 0.005, "\n".join(lines), fontsize=7, alpha=0.7, va="bottom")
