@@ -399,3 +399,17 @@ def test_a_robot_description_given_as_a_study_is_one_message(tmp_path, capsys):
                    'study names its robot (robot = "<this file>") and says what to do with it '
                    "(kind, [motion]...); `planar-sym move` runs one move of a robot without a "
                    "study\n")
+
+
+def test_a_task_start_out_of_reach_in_metres_asks_about_millimetres(tmp_path):
+    """start = [100, 100] meant in mm, read in the default m: 'target x = 100000 mm
+    unreachable' said nothing of the unit (user trial); a start 10 m or more away asks."""
+    text = ('robot = "serial_2dof"\nkind = "inverse"\n[motion]\nspace = "task"\n'
+            "start = [{0}, {0}]\nby = [-0.2, 0.0]\nduration = 1.0\n")
+    with pytest.raises(ps.WorkspaceError) as exc:
+        run(write(tmp_path, text.format(100.0)))
+    assert str(exc.value).endswith("; the study's lengths are in m ([units] length, default "
+                                   'm): were they typed in mm? ([units] length = "mm")')
+    with pytest.raises(ps.WorkspaceError) as exc:  # out of reach, but not by a unit
+        run(write(tmp_path, text.format(0.5), name="near.toml"))
+    assert "typed in mm" not in str(exc.value)

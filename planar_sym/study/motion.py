@@ -31,9 +31,19 @@ def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
     tr = trajectory(st, robot, samples) if t is None else profile_at(st, robot, np.asarray(t))
     q_start = start_pose(st, robot)  # picks the assembly (and working) mode
     if m.space == "task":
+        from ..errors import WorkspaceError
         from ..motion.ik import inverse_kinematics
 
-        jt = inverse_kinematics(robot, tr, solver=m.ik, q_start=q_start)
+        try:
+            jt = inverse_kinematics(robot, tr, solver=m.ik, q_start=q_start)
+        except WorkspaceError as exc:
+            # 100 meant in mm, read in the default m, is a target 100 m away: say which unit
+            far = st.length_si == 1.0 and np.max(np.abs(m.start)) > MM_LIKE_M
+            if not far:
+                raise
+            raise WorkspaceError(f"{exc}; the study's lengths are in m ([units] length, "
+                                 f"default m): were they typed in mm? ([units] length = "
+                                 f"\"mm\")") from None
         return jt, tr.x
     if robot.is_closed_chain:
         from ..motion.closure import from_actuated
@@ -81,6 +91,10 @@ START_POSE_GAP_M = 1e-3
 #: the initial state of a simulation must be on the loops: this is the loops' own tolerance
 #: (m), the forward dynamics' drift limit
 STATE_GAP_M = 1e-9
+
+
+#: a task start farther than this (m) in a study read in metres, and out of reach: likely mm
+MM_LIKE_M = 10.0
 
 
 def _warn_turns(st: specs.Study, robot: Robot, fld: str, values, coords) -> bool:
