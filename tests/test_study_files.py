@@ -413,3 +413,17 @@ def test_a_task_start_out_of_reach_in_metres_asks_about_millimetres(tmp_path):
     with pytest.raises(ps.WorkspaceError) as exc:  # out of reach, but not by a unit
         run(write(tmp_path, text.format(0.5), name="near.toml"))
     assert "typed in mm" not in str(exc.value)
+
+
+def test_a_name_near_no_known_one_suggests_nothing(tmp_path, capsys):
+    """The did-you-mean only for a near name (difflib's ratio at least spelling.CUTOFF = 0.75):
+    `mot` (0.67 of `motion`) lists the known keys instead; a study name near no built-in one
+    ends with the list, no suggestion."""
+    path = write(tmp_path, 'robot = "serial_2dof"\nkind = "inverse"\n[mot]\nspace = "task"\n')
+    with pytest.raises(InputError) as exc:
+        spec.load(path)
+    assert exc.value.problems[0] == (f"{path}: mot: unknown key (known: constants, control, "
+                                     "events, kind, motion, notes, optimal, optimise, outputs, "
+                                     "parameters, robot, simulation, title, units)")
+    assert main(["run", "zzzz"]) == 2
+    assert capsys.readouterr().err.rstrip().endswith("nor a study file (.toml)")
