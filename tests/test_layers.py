@@ -19,7 +19,7 @@ LAYERS = ("base", "model", "motion", "dynamics", "control", "optimal", "identify
           "outputs",
           "commands", "api")
 BASE = {"planar_sym.errors", "planar_sym.files", "planar_sym.progress", "planar_sym.environment",
-        "planar_sym.toml_write", "planar_sym.expressions"}
+        "planar_sym.toml_write", "planar_sym.expressions", "planar_sym.spelling"}
 #: what derive/ may take from the runtime
 DERIVE_MAY_IMPORT = {"planar_sym.errors", "planar_sym.progress", "planar_sym.model.units",
                      "planar_sym.model.description"}

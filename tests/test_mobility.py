@@ -153,6 +153,7 @@ def test_singular_drawn_pose(tmp_path):
     (ROOT / "tests" / "robots" / "rotated_slider.toml", 3),
     (ROOT / "tests" / "robots" / "rpr_geared.toml", 3),
     (ROOT / "tests" / "robots" / "parallelogram.toml", 1),
+    (ROOT / "tests" / "robots" / "carriage_arm.toml", 3),
 ])
 def test_dof_of_every_robot_that_ships(robot, dof):
     m = mobility.of(description.load(robot))
@@ -165,7 +166,8 @@ def test_test_robots_are_all_counted():
     """Every test robot is in the table above, but cart_pole.toml (its hinge is passive, so its
     2 degrees of freedom have 1 motor: an underactuated tree, tests/test_sliders.py)."""
     assert sorted(p.name for p in (ROOT / "tests" / "robots").glob("*.toml")) == [
-        "actuated_2dof.toml", "bent_arm.toml", "cart_pole.toml", "cart_pole_incline.toml",
+        "actuated_2dof.toml", "bent_arm.toml", "carriage_arm.toml", "cart_pole.toml",
+        "cart_pole_incline.toml",
         "horizontal_2dof.toml", "parallelogram.toml", "pendulum.toml", "point_pendulum.toml",
         "rotated_slider.toml", "rpr_geared.toml"]
     m = mobility.of(description.load(ROOT / "tests" / "robots" / "cart_pole.toml"))

@@ -309,4 +309,4 @@ def test_a_refusal_quotes_what_was_typed_in_the_description_s_units(tmp_path, ca
                  str(tmp_path / "o")])
     assert code == 2
     assert capsys.readouterr().err.strip() == (
-        "error: parameters: parameter m_crank must be > 0 kg (got -0.005) (typed -5 g)")
+        "error: --set: parameter m_crank must be > 0 kg (got -0.005) (typed -5 g)")

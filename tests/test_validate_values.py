@@ -710,12 +710,54 @@ def test_run_all_refuses_what_is_not_a_robot():
         validate.run_all("serial_2dof")
 
 
-def test_a_free_motion_that_does_not_move_is_pushed_or_skipped():
+HANGING = """# A free 10 m pendulum drawn hanging at rest, no motor (a user trial's robot): its free
+# motion from the drawn pose does not move unless pushed.
+name = "hanging_pendulum"
+title = "10 m pendulum, 5 kg bob on a 1 kg rod, no motor"
+gravity = [0.0, -9.81]
+[units]
+length = "m"
+mass = "kg"
+inertia = "kg*m^2"
+angle = "deg"
+acceleration = "m/s^2"
+[ground]
+points = { O = [0.0, 0.0] }
+[[bodies]]
+name = "rod"
+mass = 1.0
+izz = "1.0*10^2/12"
+cg = [0.0, -5.0]
+cg_from = "O"
+points = { O = [0.0, 0.0], tip = [0.0, -10.0] }
+frame = ["O", "tip"]
+[[bodies]]
+name = "bob"
+mass = 5.0
+mass_at = "c"
+points = { c = [0.0, -10.0] }
+[[joints]]
+name = "pivot"
+type = "revolute"
+parent = "ground.O"
+child = "rod.O"
+actuated = false
+[[joints]]
+name = "bob_weld"
+type = "weld"
+parent = "rod.tip"
+child = "bob.c"
+"""
+
+
+def test_a_free_motion_that_does_not_move_is_pushed_or_skipped(tmp_path):
     """(c) on a motorless pendulum drawn hanging at rest passed with a drift of 0 and a peak
     kinetic energy of 1e-30 J (user trial): it is now pushed at every joint (a tree without
     actuators), and its drift is measured on a real swing, checked against the energy the
     push gave, 1/2 J w^2 with w = 1 rad/s about the pivot (J = 100/12 + 1 * 5^2 + 5 * 10^2)."""
-    robot = ps.load(str(TEST_ROBOTS / "hanging_pendulum.toml"))
+    path = tmp_path / "hanging_pendulum.toml"  # (not in tests/robots: no actuated joint)
+    path.write_text(HANGING)
+    robot = ps.load(str(path))
     sim = validate.free_motion(robot)
     assert sim.kinetic_j[0] == pytest.approx(0.5 * (100 / 12 + 25 + 500), rel=1e-12)
     got = validate.check_energy(sim)
