@@ -67,7 +67,8 @@ def check_torque(torque, n: int):
     """A run's torque input checked once, by one rule on every route (the C integrator, the
     engine, SciPy): None; a function of time (checked as it is called); a Signal of ``n``
     channels; or constant torques, one number for every actuated joint or ``n`` of them (a
-    list of one for several joints is refused: which it means is not clear), returned as a float (n,) array (N*m; N at a slider)."""
+    list of one for several joints is refused: which it means is not clear), returned as a
+    float (n,) array (N*m; N at a slider)."""
     if torque is None or (callable(torque) and not isinstance(torque, Signal)):
         return torque
     if isinstance(torque, Signal):

@@ -40,13 +40,13 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
 
     The first sample is reached from the drawn configuration along the loops (as the others
     from it), so it is in the drawn assembly mode wherever it lies, or from ``q_guess`` by
-    Newton, which then picks the mode; the others follow it along the motion, whatever the sampling (``_follow``):
-    from each solved pose to the next sample's actuated coordinates in steps of at most
-    ``MAX_STEP`` in any coordinate (and shorter near a singular pose), each predicted along
-    the loops' tangent and corrected by Newton; refused where the motion meets a singular pose
-    (Phi_p's 1-norm condition number above COND_LIMIT), where the sign of det Phi_p changes
-    (one crossed between two steps: another assembly mode), or where Newton cannot close the
-    loops.
+    Newton, which then picks the mode; the others follow it along the motion, whatever the
+    sampling (``_follow``): from each solved pose to the next sample's actuated coordinates in
+    steps of at most ``MAX_STEP`` in any coordinate (and shorter near a singular pose), each
+    predicted along the loops' tangent and corrected by Newton; refused where the motion meets a
+    singular pose (Phi_p's 1-norm condition number above COND_LIMIT), where the sign of det
+    Phi_p changes (one crossed between two steps: another assembly mode), or where Newton cannot
+    close the loops.
 
     ``q_act`` (N, actuated) holds the actuated coordinates (rad; m at a slider), ``q_guess``
     (n,) a start pose, ``t`` (N,) the times (s) to name in an error. Returns every coordinate,
@@ -65,7 +65,7 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     return out
 
 
-def _first(loops: "_Loops", qa: np.ndarray, q_guess, t) -> "_Pose":
+def _first(loops: _Loops, qa: np.ndarray, q_guess, t) -> _Pose:
     """The first sample's pose: from ``q_guess`` by Newton, or (None) continued from the drawn
     pose, whose assembly mode it keeps. Newton from the drawn passive angles straight at a
     crank 240 degrees away closed the slider-crank in its other mode (the slider on the far
