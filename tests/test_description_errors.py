@@ -90,8 +90,8 @@ def test_unknown_key_typo(tmp_path):
     """One mistake, one message: the misspelt key is checked as the key it nearly is, so the
     body's mass is not also reported missing."""
     path = edited(tmp_path, SERIAL, ("mass = 0.071", "mas = 0.071"))
-    assert problems_of(path) == [f"{path}: bodies[0].mas: unknown key: did you mean 'mass'? "
-                                 "(checked as mass below)"]
+    assert problems_of(path) == [(f"{path}: bodies[0].mas: unknown key: did you mean 'mass'? "
+                                 "(checked as mass below)")]
 
 
 def test_a_misspelt_key_is_checked_where_it_belongs(tmp_path):
@@ -104,8 +104,8 @@ def test_a_misspelt_key_is_checked_where_it_belongs(tmp_path):
                                 "mass below)")
     assert any("(link1).mass" in p and "-0.071" in p for p in problems[1:]), problems
     path = edited(tmp_path, SERIAL, ("mass = 0.071", "mass = 0.071\nmas = 1.0"))
-    assert problems_of(path) == [f"{path}: bodies[0].mas: unknown key (known: cg, cg_from, frame, "
-                                 "izz, mass, mass_at, name, notes, points)"]
+    assert problems_of(path) == [(f"{path}: bodies[0].mas: unknown key (known: cg, cg_from, frame, "
+                                 "izz, mass, mass_at, name, notes, points)")]
 
 
 def test_unknown_length_unit(tmp_path):

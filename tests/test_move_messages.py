@@ -15,8 +15,8 @@ from planar_sym.cli import main
     (["--task", "--from", "100,100,5", "--by", "0,10", "--duration", "1"],
      "invalid move:\n  --by: has 2 values and --from 3: both need one per coordinate moved"),
     (["--task", "--from", "100,100,5", "--by", "0,10,0", "--duration", "1"],
-     "serial_2dof_move: --from: serial_2dof needs 2 values, one per task coordinate (x, y) "
-     "(got 3)"),
+     ("serial_2dof_move: --from: serial_2dof needs 2 values, one per task coordinate (x, y) "
+     "(got 3)")),
 ])
 def test_move_refusals_name_the_options(tmp_path, capsys, argv, words):
     assert main(["move", "serial_2dof", *argv, "--out", str(tmp_path)]) == 2

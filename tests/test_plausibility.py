@@ -179,10 +179,10 @@ def test_gravity_typed_in_cm_is_named_not_sent_to_mm(tmp_path):
                        "here: give it in m/s^2)?")
     texts = warned(edited(tmp_path, SERIAL, ("gravity = [0.0, -9.81]", "gravity = [0.0, -981.0]"),
                           ('acceleration = "m/s^2"', 'acceleration = "mm/s^2"')))
-    assert texts == ["gravity: magnitude 0.981 m/s^2 is Earth's 9.81 m/s^2 times 1e-1: a unit or "
+    assert texts == [("gravity: magnitude 0.981 m/s^2 is Earth's 9.81 m/s^2 times 1e-1: a unit or "
                      "decimal slip? (cm/s^2 typed as mm/s^2 gives this: give gravity in m/s^2; "
                      "a robot on a tilted table feels g sin(tilt), which may be anything: then "
-                     "ignore this)"]
+                     "ignore this)")]
     for g in ("1.0", "0.9", "3.71"):  # not Earth's times a power of ten (2%): no word
         assert warned(edited(tmp_path, SERIAL, ("gravity = [0.0, -9.81]",
                                                 f"gravity = [0.0, -{g}]"))) == []

@@ -101,8 +101,8 @@ Q_HAVE = "q1_rad (index 0), q2_m (index 1)"
     (("q", 0, "C"), f"no series of 'q' with index=0 and joint='C' {HINT.format('q')}; 'q' has {Q_HAVE}"),
     (("q", 2), f"no series of 'q' with index=2 {HINT.format('q')}; 'q' has {Q_HAVE}"),
     (("tau", 1), "no series of 'tau' in this result (its quantities: t, q, fx, fy)"),
-    (("fy", 0, "C"), f"no series of 'fy' with index=0 and joint='C' {HINT.format('fy')}; 'fy' "
-                     "has fy_C_n (joint 'C')"),
+    (("fy", 0, "C"), (f"no series of 'fy' with index=0 and joint='C' {HINT.format('fy')}; 'fy' "
+                     "has fy_C_n (joint 'C')")),
 ])
 def test_one_refuses_word_for_word(mixed, args, words):
     """A refusal is an InputError (a message, not a traceback, on the command line) and a
@@ -166,8 +166,8 @@ def test_series_and_get_select_by_index_and_joint():
     assert sim.get("qd", 1).unit == "m/s" and np.array_equal(sim.get("qd", 1).values, QD[:, 1])
     with pytest.raises(KeyError) as exc:
         sim.get("q", 0, joint="A")
-    assert exc.value.args == (f"no series of 'q' with index=0 and joint='A' {HINT.format('q')}; "
-                              f"'q' has {Q_HAVE}",)
+    assert exc.value.args == ((f"no series of 'q' with index=0 and joint='A' {HINT.format('q')}; "
+                              f"'q' has {Q_HAVE}"),)
     with pytest.raises(KeyError) as exc:
         sim.get("energy", joint="C")
     assert exc.value.args == ("no series of 'energy' with joint='C'; 'energy' has energy_j",)

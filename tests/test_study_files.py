@@ -164,8 +164,8 @@ def test_a_misspelt_table_is_one_message_and_its_fields_are_still_checked(tmp_pa
     path = write(tmp_path, text.format(2))
     with pytest.raises(InputError) as exc:
         spec.load(path)
-    assert exc.value.problems == [f"{path}: motoin: unknown key: did you mean 'motion'? "
-                                  "(checked as motion below)"]
+    assert exc.value.problems == [(f"{path}: motoin: unknown key: did you mean 'motion'? "
+                                  "(checked as motion below)")]
     path = write(tmp_path, text.format(-2))
     with pytest.raises(InputError) as exc:
         spec.load(path)
@@ -375,9 +375,9 @@ def test_joint_angles_beyond_a_turn_in_radians_warn_once(tmp_path):
         warnings.simplefilter("always")
         run(path)
     said = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
-    assert said == [f"{path}: motion.start[0] = 60 rad is 9.55 turns (a warning beyond one): "
+    assert said == [(f"{path}: motion.start[0] = 60 rad is 9.55 turns (a warning beyond one): "
                     "were the angles typed in degrees? ([units] angle = \"deg\" makes it 60 "
-                    "deg)"]
+                    "deg)")]
     for units in ('[units]\nangle = "deg"\n', ""):
         path = write(tmp_path, text.format(units=units) if units else
                      text.format(units="").replace("by = [360.0", "by = [-6.2").replace(

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, LibraryError
-from .batch import FunctionSpec, shaped
 from ..progress import announce
+from .batch import FunctionSpec, shaped
 from .compile import NoCompiler, _compiler, _fresh_name, build, build_simd, groups, is_built
 from .folders import builtin_generated_dirs, find_generated, read_manifest
 

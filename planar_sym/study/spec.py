@@ -115,10 +115,10 @@ def parse(data: dict, name: str, path: Path | None = None) -> Study:
     c = StudyChecker(path)
     if "robot" not in data and {"bodies", "joints"} & set(data):  # one message, not ten
         where = f"{path}: " if path is not None else ""
-        raise StudyError([f"{where}a robot description, not a study: a study names its robot "
-                          "(robot = \"<this file>\") and says what to do with it (kind, "
-                          "[motion]...); `planar-sym move` runs one move of a robot without a "
-                          "study"])
+        raise StudyError([(f"{where}a robot description, not a study: a study names its robot "
+                           "(robot = \"<this file>\") and says what to do with it (kind, "
+                           "[motion]...); `planar-sym move` runs one move of a robot without a "
+                           "study")])
     c.keys(data, _TOP, "")
     data = c.expressions(data, NUMBERS)
     robot = c.string(data, "robot", "robot")

@@ -12,7 +12,6 @@ check that field, like any other wrong value of it: one mistake, one message.
 from __future__ import annotations
 
 import copy
-
 import math
 import re
 from pathlib import Path

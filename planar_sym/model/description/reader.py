@@ -37,8 +37,8 @@ def resolve(robot: str | Path) -> Path:
     candidate = robots_dir() / f"{robot}.toml"
     if not candidate.exists():
         raise DescriptionError(
-            [f"unknown robot {robot!r}; built in: {', '.join(builtin_robots())}"
-             f"{did_you_mean(robot, builtin_robots())}"]
+            [(f"unknown robot {robot!r}; built in: {', '.join(builtin_robots())}"
+              f"{did_you_mean(robot, builtin_robots())}")]
         )
     return candidate
 
