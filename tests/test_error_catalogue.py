@@ -267,10 +267,10 @@ def zero_inertia(ctx):
      DescriptionError,
      r"bad\.toml: bodies\[1\] \(Link1_2\)\.izz: implausible: 90992 kg\*mm\^2 gives a radius of "
      r"gyration of 1422 mm for a body whose points reach [0-9.]+ mm from its centre of gravity "
-     r"\(more than 3 times\); a unit or decimal-point slip\?",
+     r"\(more than 3 times\); a slip\? In \"g\*mm\^2\" it would be 9\.0992e-05 kg\*m\^2",
      "bad.toml: bodies[1] (Link1_2).izz: implausible: 90992 kg*mm^2 gives a radius of gyration "
      "of 1422 mm for a body whose points reach 50 mm from its centre of gravity (more than 3 "
-     "times); a unit or decimal-point slip?")
+     "times); a slip? In \"g*mm^2\" it would be 9.0992e-05 kg*m^2")
 def inertia_typo_3rrr(ctx):
     _desc(ctx, RRR, ("izz = 90.992", "izz = 90992"))
 

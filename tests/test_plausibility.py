@@ -341,3 +341,14 @@ def test_every_shipped_kind_is_there():
     names = {p.name for p in SHIPPED}
     assert {"serial_2dof.toml", "parallel_3rrr.toml", "pendulum.toml", "four_bar.toml",
             "four_bar_joints.toml"} <= names
+
+
+def test_an_inertia_typed_in_another_unit_names_the_unit_that_fits(tmp_path):
+    """A link's izz = 109.864 (kg*mm^2) read in kg*m^2: refused, and the hint names the unit
+    that gives it a plausible radius of gyration, as the mass and the warnings already did
+    (it said only 'a unit or decimal-point slip?'; user trial)."""
+    problem = refused(edited(tmp_path, SERIAL, ("izz = 109.864", "izz = 109864.0")))
+    assert problem.endswith('a slip? In "g*mm^2" it would be 0.000109864 kg*m^2'), problem
+    problem = refused(edited(tmp_path, SERIAL, ('inertia = "kg*mm^2"', 'inertia = "kg*m^2"'),
+                             ("izz = 89.395", "izz = 0.000089395")))
+    assert 'a slip? In "kg*mm^2" it would be 0.000109864 kg*m^2 or' in problem, problem

@@ -15,7 +15,7 @@ import math
 from ...spelling import unknown_keys
 from .fields import BODY_KEYS, GROUND_KEYS, NAME, snap
 from .plausibility import Plausibility
-from .quantities import inertia_doubt, mass_doubt
+from .quantities import inertia_doubt, inertia_fits, mass_doubt
 from .types import CLOSURE_TOLERANCE_M, GROUND, GYRATION_LIMIT, Body
 
 
@@ -151,10 +151,12 @@ class Bodies(Plausibility):
             return
         radius = math.sqrt(body.izz_kg_m2 / body.mass_kg)
         if radius > GYRATION_LIMIT * extent and not self.length_slip:  # the slip is reported
+            hint = inertia_fits(izz_given, unit, body.mass_kg, extent,
+                                "a unit or decimal-point slip?")
             self.err(f"{f}.izz", f"implausible: {izz_given} {unit} gives a radius of gyration "
                                  f"of {radius * 1e3:.4g} mm for a body whose points reach "
                                  f"{extent * 1e3:.4g} mm from its centre of gravity (more than "
-                                 f"{GYRATION_LIMIT:g} times); a unit or decimal-point slip?")
+                                 f"{GYRATION_LIMIT:g} times); {hint}")
         elif not self.span_doubt:  # one mistake, one message: a heavy mass lowers the radius
             if (msg := mass_doubt(typed[0], units["mass"], extent)) is not None:
                 self.warn(f"{f}.mass", msg)

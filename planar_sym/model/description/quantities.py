@@ -243,12 +243,20 @@ def inertia_doubt(typed: float, unit: str, mass: float, extent: float) -> str | 
     izz = typed * UNITS["inertia"][unit]
     if extent <= 0.0 or mass <= 0.0 or izz <= 0.0 or math.sqrt(izz / mass) >= GYRATION_LOW * extent:
         return None
-    fits = [(label, a) for label, a in q.alternatives(typed, unit)
-            if GYRATION_LOW * extent <= math.sqrt(a / mass) <= GYRATION_LIMIT * extent]
     return (f"{_shown(typed, unit, q)} gives a radius of gyration of "
             f"{math.sqrt(izz / mass) * 1e3:.4g} mm, less than {GYRATION_LOW:g} times the "
             f"{extent * 1e3:.4g} mm its points reach from its centre of gravity; "
-            + (f"a slip? {_readings(fits, q.unit)}" if fits else "a unit or decimal slip?"))
+            + inertia_fits(typed, unit, mass, extent, "a unit or decimal slip?"))
+
+
+def inertia_fits(typed: float, unit: str, mass: float, extent: float, otherwise: str) -> str:
+    """How an implausible inertia (``typed`` in ``unit``) may have been meant: the units that
+    give a body of ``mass`` (kg) and reach ``extent`` (m) a plausible radius of gyration, or
+    ``otherwise``. 3000 typed in kg*m^2 for kg*mm^2 names kg*mm^2."""
+    q = QUANTITIES["inertia"]
+    fits = [(label, a) for label, a in q.alternatives(typed, unit)
+            if GYRATION_LOW * extent <= math.sqrt(a / mass) <= GYRATION_LIMIT * extent]
+    return f"a slip? {_readings(fits, q.unit)}" if fits else otherwise
 
 
 def _shown(typed: float, unit: str, q: Quantity) -> str:
