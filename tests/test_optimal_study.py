@@ -194,27 +194,26 @@ def test_each_field_of_the_optimal_table_is_named(table, message):
     assert len(err.value.problems) == 1 and message in err.value.problems[0], err.value.problems
 
 
-def test_a_tracking_run_shorter_than_its_move_is_refused_too(tmp_path):
-    """The same rule on a tracking study (a user trial's slip): control.duration 3 s of the
-    S3 arm's 5 s move stopped in the middle of it without a word."""
-    study = (ROOT / "planar_sym" / "studies" / "serial_2dof_cartesian_track.toml").read_text()
+@pytest.mark.parametrize("name, edit, words", [
+    # a tracking study (a user trial's slip): 3 s of the S3 arm's 5 s move
+    ("serial_2dof_cartesian_track", ("duration = 6.0", "duration = 3.0"), ("3 s", "5 s")),
+    # an optimal study tracked by LQR
+    ("cart_pole_swing_up", ("duration = 5.0", "duration = 1.5"), ("1.5 s", "2 s"))])
+def test_a_run_shorter_than_its_move_is_refused(tmp_path, name, edit, words):
+    """A run that would stop in the middle of the move it tracks (silently unfinished before)
+    is named by its field, on a tracking study and on an optimal one alike."""
+    study = (ROOT / "planar_sym" / "studies" / f"{name}.toml").read_text()
     short = tmp_path / "short.toml"
-    short.write_text(study.replace("duration = 6.0", "duration = 3.0"))
-    with pytest.raises(ps.InputError, match="short.toml: control.duration 3 s ends before the "
-                                            "move it tracks \\(5 s\\)"):
+    short.write_text(study.replace(*edit))
+    with pytest.raises(ps.InputError, match=f"short.toml: control.duration {words[0]} ends "
+                                            f"before the move it tracks \\({words[1]}\\)"):
         ps.run_study(short)
 
 
-def test_a_run_shorter_than_its_move_and_weights_of_the_wrong_width_are_named(tmp_path):
-    """A student's slips in an optimal study tracked by LQR: a run that would stop in the
-    middle of the move (silently unfinished before), a q_weight of three values for a
-    pendulum's two states; each named by its field."""
+def test_weights_of_the_wrong_width_are_named(tmp_path):
+    """A student's slip in an optimal study tracked by LQR: a q_weight of three values for a
+    pendulum's two states, named by its field."""
     study = (ROOT / "planar_sym" / "studies" / "cart_pole_swing_up.toml").read_text()
-    short = tmp_path / "short.toml"
-    short.write_text(study.replace("duration = 5.0", "duration = 1.5"))
-    with pytest.raises(ps.InputError, match="short.toml: control.duration 1.5 s ends before "
-                                            "the move it tracks \\(2 s\\)"):
-        ps.run_study(short)
     wide = tmp_path / "wide.toml"
     wide.write_text(study.replace("q_weight = [100.0, 100.0, 1.0, 1.0]", "q_weight = [1.0, 2.0]"))
     with pytest.raises(ps.InputError, match="wide.toml: control.q_weight: cart_pole needs 4 "

@@ -82,8 +82,10 @@ def _first(loops: _Loops, qa: np.ndarray, q_guess, t) -> _Pose:
             except WorkspaceError:
                 # a target the loops close at in no mode is outside, whatever lies between
                 q[act] = qa
-                if loops.newton(q)[1] < NEWTON_TOL_M:
+                residual = loops.newton(q)[1]
+                if residual < NEWTON_TOL_M:
                     raise
+                loops.refuse_outside(qa, residual, t, 0)  # (not a second Newton, in close)
     q[act] = qa
     return _Pose(loops, loops.close(q, qa, t, 0))
 
