@@ -36,3 +36,16 @@ class WorkspaceError(PlanarSymError, ValueError):
 
 class SimulationError(PlanarSymError, RuntimeError):
     """The integrator failed; names the time it happened."""
+
+
+def warn_caller(text: str, category: type[Warning] = RuntimeWarning) -> None:
+    """A warning shown at the first frame outside this package (the user's line), however
+    deep the route that found the problem."""
+    import sys
+    import warnings
+    from pathlib import Path
+
+    here, level, frame = str(Path(__file__).resolve().parent), 2, sys._getframe(1)
+    while frame is not None and str(Path(frame.f_code.co_filename).resolve()).startswith(here):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(text, category, stacklevel=level)

@@ -118,8 +118,9 @@ def test_the_first_sample_is_refused_at_a_residual_of_exactly_the_tolerance(slid
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.5]], q0, T[1:])
     assert str(exc.value) == ("slider_crank: the loops cannot be closed at t = 0.5 s (sample 0) "
-                              "for actuated coordinates [0.5] (rad) (|Phi| = 1e-13 m): outside "
-                              "the workspace")
+                              "for actuated coordinates [0.5] (rad) (|Phi| = 1e-13 m, not below "
+                              "the 1e-13 m of closed loops: at or just past the edge of the "
+                              "workspace): outside the workspace")
     below = np.nextafter(TOL, 0.0)
     monkeypatch.setattr(closure._Loops, "newton", lambda self, q: (q.copy(), below))
     assert np.array_equal(closure.solve_passive(slider, [[0.5]], q0)[0], q0)
@@ -137,7 +138,8 @@ def test_a_step_closed_to_exactly_the_tolerance_is_not_taken(slider, monkeypatch
     guesses = spy(monkeypatch, land)
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.0], [0.02]], closed_form(slider, [0.0])[0], T)
-    assert str(exc.value) == OUTSIDE.format(qa=0.02, why="|Phi| = 1e-13 m")
+    assert str(exc.value) == OUTSIDE.format(qa=0.02, why="|Phi| = 1e-13 m, not below the 1e-13 m of closed loops: at or just past the "
+                                                "edge of the workspace")
     assert len(guesses) == 1 + 1 + closure.MAX_HALVINGS
 
 

@@ -76,6 +76,10 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         Step limit of the C integrator.
     project : bool
         Closed chains: solve the passive joints of ``q0``, ``qd0`` from the actuated ones.
+        Passive values equal to ``robot.q_drawn``'s are no guess: the drawn pose is continued
+        along the loops to the actuated ones (its assembly mode kept). Other values are
+        Newton's start, which picks the mode; one Newton must move far that closes another
+        pose than the drawn mode's gets a warning naming both.
     progress : callable, optional
         Called as ``progress(t_s, t_end_s)`` about ten times a second while the compiled loop
         (dopri5) runs, with the time reached (e.g. ``planar_sym.progress.Clock``); the

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError, WorkspaceError
+from ..errors import InputError, WorkspaceError, warn_caller
 from ..model.arrays import as_sample_set, as_samples, when
 from ..model.library import SingleCall
 from ..model.loops import COND_LIMIT, refuse_singular_matrices
@@ -19,6 +19,8 @@ from .profiles import JointTrajectory
 #: Newton on Phi(q) = 0 stops below this residual (m); far under the 1e-9 m the tests demand.
 NEWTON_TOL_M = 1e-13
 NEWTON_MAX_ITER = 30
+#: a residual Newton stalls at below this (m) is named as near the workspace's edge
+NEAR_EDGE_M = 1e-6
 
 
 def partition(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
@@ -66,28 +68,81 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
 
 
 def _first(loops: _Loops, qa: np.ndarray, q_guess, t) -> _Pose:
-    """The first sample's pose: from ``q_guess`` by Newton, or (None) continued from the drawn
-    pose, whose assembly mode it keeps. Newton from the drawn passive angles straight at a
-    crank 240 degrees away closed the slider-crank in its other mode (the slider on the far
-    side of the pivot, 7% off in torque) without a word. A drawn pose that is itself singular
-    is left to Newton, as before."""
-    robot, act = loops.robot, loops.act
-    q = np.array(robot.q_drawn if q_guess is None else q_guess, dtype=float)
-    if q_guess is None:
-        drawn, residual = loops.newton(q)
-        pose = _Pose(loops, drawn) if residual < NEWTON_TOL_M else None
-        if pose is not None and pose.cond <= COND_LIMIT:
-            try:
-                return _follow(loops, pose, qa, t, 0, origin="the drawn pose")
-            except WorkspaceError:
-                # a target the loops close at in no mode is outside, whatever lies between
-                q[act] = qa
-                residual = loops.newton(q)[1]
-                if residual < NEWTON_TOL_M:
-                    raise
-                loops.refuse_outside(qa, residual, t, 0)  # (not a second Newton, in close)
+    """The first sample's pose: continued from the drawn pose, whose assembly mode it keeps,
+    or from ``q_guess`` by Newton, which then picks the mode. Newton from the drawn passive
+    angles straight at a crank 240 degrees away closed the slider-crank in its other mode (the
+    slider on the far side of the pivot, 7% off in torque) without a word, so a guess whose
+    passive coordinates are the drawn ones (``simulate(project=True)`` from ``q_drawn`` with
+    the crank turned) is no guess. A drawn pose that is itself singular is left to Newton."""
+    robot, act, pas = loops.robot, loops.act, loops.pas
+    if q_guess is not None and np.array_equal(np.asarray(q_guess, float)[pas],
+                                              robot.q_drawn[pas]):
+        q_guess = None
+    if q_guess is not None:
+        return _guessed(loops, qa, np.array(q_guess, dtype=float), t)
+    q = np.array(robot.q_drawn, dtype=float)
+    drawn, residual = loops.newton(q)
+    pose = _Pose(loops, drawn) if residual < NEWTON_TOL_M else None
+    if pose is not None and pose.cond <= COND_LIMIT:
+        try:
+            return _follow(loops, pose, qa, t, 0, origin="the drawn pose")
+        except WorkspaceError:
+            # a target the loops close at in no mode is outside, whatever lies between
+            q[act] = qa
+            residual = loops.newton(q)[1]
+            if residual < NEWTON_TOL_M:
+                raise
+            loops.refuse_outside(qa, residual, t, 0)  # (not a second Newton, in close)
     q[act] = qa
     return _Pose(loops, loops.close(q, qa, t, 0))
+
+
+#: a guess whose passive coordinates Newton moves by more than this (rad; m at a slider) was
+#: far from the loops: the pose it closes is compared with the drawn mode's, and a difference
+#: is said
+FAR_GUESS = 0.5
+
+
+def _guessed(loops: _Loops, qa: np.ndarray, guess: np.ndarray, t) -> _Pose:
+    """Newton from ``guess`` with the actuated coordinates ``qa``; its passive angles in the
+    turn nearest the guess (Newton from far away wandered to q2 = 493 rad on a four-bar).
+    Where Newton cannot close the loops from the guess the drawn mode is continued there; where
+    a far guess closes another pose than the drawn mode's, a warning names both."""
+    robot, pas = loops.robot, loops.pas
+    q = guess.copy()
+    q[loops.act] = qa
+    closed, residual = loops.newton(q)
+    if not residual < NEWTON_TOL_M:
+        try:
+            return _first(loops, qa, None, t)
+        except WorkspaceError:
+            loops.refuse_outside(qa, residual, t, 0)
+    turns = np.array([robot.coordinate_units[i] == "rad" for i in pas])
+    shift = np.where(turns, 2 * np.pi * np.round((closed[pas] - guess[pas]) / (2 * np.pi)), 0)
+    closed[pas] -= shift
+    if np.max(np.abs(closed[pas] - guess[pas])) > FAR_GUESS:
+        try:
+            drawn = _first(loops, qa, None, t).q
+        except WorkspaceError:
+            drawn = None
+        if drawn is not None and not _same_pose(drawn, closed, pas, turns):
+            warn_caller(
+                f"{robot.name}: the start's passive coordinates {_listed(guess, pas)} are far "
+                f"from the loops; Newton from them closes them at {_listed(closed, pas)}, "
+                f"another pose than the drawn assembly mode's {_listed(drawn, pas)} at these "
+                "actuated coordinates; the first was taken: give a start on the loops "
+                "(planar_sym.from_actuated) to choose")
+    return _Pose(loops, closed)
+
+
+def _same_pose(a: np.ndarray, b: np.ndarray, pas: np.ndarray, turns: np.ndarray) -> bool:
+    d = a[pas] - b[pas]
+    d = np.where(turns, (d + np.pi) % (2 * np.pi) - np.pi, d)
+    return bool(np.max(np.abs(d)) < 1e-6)
+
+
+def _listed(q: np.ndarray, idx: np.ndarray) -> list[float]:
+    return np.round(q[idx], 4).tolist()
 
 
 #: continuation: the largest change of any coordinate (rad; m at a slider) in one step from
@@ -118,7 +173,11 @@ class _Loops:
             (phi,) = self.phi(q)
             if np.max(np.abs(phi)) < NEWTON_TOL_M:
                 break
-            q[self.pas] -= np.linalg.solve(self.jacobian(q)[:, self.pas], phi)
+            jp = self.jacobian(q)[:, self.pas]
+            try:
+                q[self.pas] -= np.linalg.solve(jp, phi)
+            except np.linalg.LinAlgError:  # exactly singular (a five-bar's cranks at 0, 0)
+                q[self.pas] -= np.linalg.lstsq(jp, phi, rcond=None)[0]
         return q, float(np.max(np.abs(phi)))
 
     def close(self, q: np.ndarray, qa: np.ndarray, t, k: int) -> np.ndarray:
@@ -134,7 +193,10 @@ class _Loops:
         robot = self.robot
         why = (f"Newton closes them (|Phi| = {residual:.3g} m) only at a pose away from where "
                "the motion goes on: another solution, not this motion's" if closed_far
-               else f"|Phi| = {residual:.3g} m")
+               else f"|Phi| = {residual:.3g} m" if residual >= NEAR_EDGE_M
+               # a small residual read as closed in a user trial: say what closed means
+               else f"|Phi| = {residual:.3g} m, not below the {NEWTON_TOL_M:g} m of closed loops: "
+               "at or just past the edge of the workspace")
         raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {when(t, k)} "
                              f"for actuated coordinates {np.round(qa, 9).tolist()} "
                              f"({', '.join(robot.coordinate_units[i] for i in self.act)}) "
