@@ -128,6 +128,9 @@ def test_refusals_name_the_mistake(cart_pole, swing):
     jt = move.trajectory
     with pytest.raises(InputError, match="tau must be finite, shape \\(101, 1\\)"):
         ps.tvlqr(cart_pole, jt, move.tau[:-1], q_weight=Q_W, r_weight=R_W)
+    with pytest.raises(InputError, match="reference must be one of 'spline', 'hermite' "
+                                         "\\(got 'linear'\\)"):
+        ps.tvlqr(cart_pole, jt, move.tau, q_weight=Q_W, r_weight=R_W, reference="linear")
     with pytest.raises(InputError, match="q_weight must have 4 values"):
         ps.tvlqr(cart_pole, jt, move.tau, q_weight=[1.0, 1.0], r_weight=R_W)
     tilted = JointTrajectory(jt.t_s, jt.q - [0.0, 0.5], jt.qd, jt.qdd)
@@ -142,7 +145,8 @@ def test_refusals_name_the_mistake(cart_pole, swing):
 
 
 def test_the_schedule_between_samples(cart_pole, swing):
-    """The compiled law's x_r, u_r and K between the samples, against SciPy's cubic Hermite
+    """``reference="hermite"``: the compiled law's x_r, u_r and K between the samples, against
+    SciPy's cubic Hermite
     through (q, qd) (its derivative for qd) and straight lines for u and K, on a motion that
     is not piecewise quadratic (the plan's samples moved by a smooth wave); at the samples
     exactly the design's; after the end the hold's."""
@@ -154,7 +158,7 @@ def test_the_schedule_between_samples(cart_pole, swing):
     wave = np.sin(np.pi * t / 2)[:, None] ** 2 * [0.01, 0.02]
     bent = JointTrajectory(t, jt.q + wave, jt.qd + (np.pi / 2 * np.sin(np.pi * t))[:, None]
                            * [0.01, 0.02], jt.qdd)
-    d = ps.tvlqr(cart_pole, bent, move.tau, q_weight=Q_W, r_weight=R_W)
+    d = ps.tvlqr(cart_pole, bent, move.tau, q_weight=Q_W, r_weight=R_W, reference="hermite")
     assert np.array_equal(d.t_s, jt.t_s) and d.gain.shape == (101, 1, 4)
     sched = d.controller().schedule
     mid = (jt.t_s[:-1] + jt.t_s[1:]) / 2
@@ -169,6 +173,47 @@ def test_the_schedule_between_samples(cart_pole, swing):
     assert np.abs(at[:, :2] - bent.q[:-1]).max() < 1e-14
     assert np.abs(at[:, 5:] - d.gain[:-1, 0]).max() == 0
     assert d.controller().saturate is True and d.controller(False).saturate is False
+
+
+def test_the_spline_reference_is_smooth_and_through_the_samples(cart_pole, swing):
+    """The default reference: q_r through every sample, at the ends at the motion's rates, its
+    second derivative continuous across every inner sample, qd_r its derivative, u_r through
+    the torques; K as with Hermite."""
+    move, design = swing
+    jt = move.trajectory
+    sched = design.controller().schedule
+    at = sched(jt.t_s[:-1])
+    assert np.abs(at[:, :2] - jt.q[:-1]).max() < 1e-14
+    assert np.abs(at[:, 4] - move.tau[:-1, 0]).max() < 1e-14
+    assert np.abs(at[:, 5:] - design.gain[:-1, 0]).max() == 0
+    end = sched(np.array([jt.t_s[-1] - 1e-12]))[0]
+    assert np.abs(end[2:4] - jt.qd[-1]).max() < 1e-9 and np.abs(at[0, 2:4] - jt.qd[0]).max() < 1e-14
+    inner, eps = jt.t_s[1:-1], 1e-9
+    left, right = sched(inner - eps, 2)[:, :2], sched(inner + eps, 2)[:, :2]
+    assert np.abs(left - right).max() < 1e-5 * np.abs(left).max(), np.abs(left - right).max()
+    mid = (jt.t_s[:-1] + jt.t_s[1:]) / 2
+    assert np.abs(sched(mid, 1)[:, :2] - sched(mid)[:, 2:4]).max() < 1e-12
+
+
+def test_the_plans_nodes_do_not_show_in_the_force(cart_pole, swing):
+    """On the nominal plant the law's force along the 100-interval plan: with the plan itself
+    as reference (rates kinked at every node) a saw-tooth of the nodes' period, 0.085 N in the
+    second difference at 10 ms, and the plan's 0.2 N limit passed (0.2022 N); with the spline
+    reference 0.009 N, and within the limit. The tracking error stays the plan's own."""
+    move, _ = swing
+    jt = move.trajectory
+    t = np.linspace(0.0, 2.0, 201)
+    for ref, saw, peak in (("spline", 0.02, 0.2), ("hermite", 0.05, 0.2015)):
+        d = ps.tvlqr(cart_pole, jt, move.tau, q_weight=Q_W, r_weight=R_W, reference=ref)
+        run = simulate_controlled(cart_pole, d.controller(saturate=False), (0.0, 2.0),
+                                  q0=jt.q[0], qd0=jt.qd[0], t_eval=t)
+        f = run.tau[:, 0]
+        second = np.abs(np.diff(f[50:150], 2)).max()  # 0.5 to 1.5 s
+        if ref == "spline":
+            assert second < saw and np.abs(f).max() <= peak, (second, np.abs(f).max())
+            assert np.abs(run.q[::2] - jt.q).max() < 3e-3
+        else:  # the saw-tooth the spline removes, still there with the plan itself
+            assert second > saw and np.abs(f).max() > peak, (second, np.abs(f).max())
 
 
 def test_weights_and_samples_are_checked(cart_pole, swing):
