@@ -365,3 +365,21 @@ def test_the_command_writes_the_shipped_files(tmp_path, capsys):
     assert main(["schema", "--check", "--out", str(tmp_path)]) == 1
     assert "study.schema.json" in capsys.readouterr().err
 
+
+
+def test_without_out_up_to_date_files_are_named_not_rewritten(tmp_path, capsys, monkeypatch):
+    """A user's ``planar-sym schema`` rewrote the installed package's files (identical bytes);
+    now it names them, and rewrites the package's folder only where a file is stale."""
+    import shutil
+
+    folder = tmp_path / "schemas"
+    shutil.copytree(schema.FOLDER, folder)
+    monkeypatch.setattr(schema, "FOLDER", folder)
+    stamps = {p.name: p.stat().st_mtime_ns for p in folder.iterdir()}
+    assert main(["schema"]) == 0
+    assert "up to date: " in capsys.readouterr().out
+    assert {p.name: p.stat().st_mtime_ns for p in folder.iterdir()} == stamps
+    (folder / schema.FILES["study"]).write_text("{}\n")
+    assert main(["schema"]) == 0
+    assert "wrote " in capsys.readouterr().out
+    assert main(["schema", "--check"]) == 0
