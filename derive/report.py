@@ -9,6 +9,7 @@ it as text, LaTeX or Markdown.
 
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass
 
@@ -132,11 +133,53 @@ def _mass(d: _Derived) -> list[Section]:
         lumped.intro.append((("Each entry of M collected by its trigonometric factors; every "
                               "distinct parameter-only coefficient (up to a rational factor) "
                               "that is more than a single parameter gets a name:"),))
+        lumped.notes.append(_lumped_values(d))
         out.append(lumped)
         out.append(Section(("Mass matrix in lumped parameters",), [
             Eq(_label("M", i, j), nt.grouped(d.lp.express(d.M[i][j]), trig))
             for i, j in d.upper]))
     return out
+
+
+#: a lumped parameter below this fraction of the largest of its unit is named negligible (it
+#: changes M by less): the seed five-bars' CAD drawings put centres of gravity a few 1e-4 mm
+#: off the links' axes, 1e-6 of the other terms, where the book's equations have none
+NEGLIGIBLE = 1e-5
+_UNIT = {2: ("kg*m^2", r"kg\,m^2"), 1: ("kg*m", r"kg\,m"), 0: ("kg", "kg")}  # by length power
+
+
+def _lumped_values(d: _Derived) -> Rich:
+    """The lumped parameters' values for this robot (SI), the negligible ones named: a lecturer
+    reads off which terms the board can drop."""
+    params = d.model.desc.parameters()
+    value = {d.nt.sub[p]: par.value for p, par in zip(d.model.sym.p, params)}
+    # each is a mass times lengths: its power of length from every length scaled by 10
+    scale = {"m": 10.0, "kg*m^2": 100.0}
+    scaled = {d.nt.sub[p]: par.value * scale.get(par.unit, 1.0)
+              for p, par in zip(d.model.sym.p, params)}
+    rows = []
+    for name, prim in d.lp.definitions:
+        if prim.free_symbols - set(value):
+            continue  # a slider's displacement in it: a function, no one value
+        v = float(prim.xreplace(value))
+        power = round(math.log10(abs(float(prim.xreplace(scaled)) / v))) if v else None
+        rows.append((name, v, power))
+    if not rows:
+        return ("Each depends on a slider's displacement: no one value.",)
+    largest: dict = {}
+    for _, v, power in rows:
+        largest[power] = max(largest.get(power, 0.0), abs(v))
+    parts: list = ["With this robot's values: "]
+    for k, (name, v, power) in enumerate(rows):
+        unit, unit_tex = _UNIT.get(power, ("", ""))
+        mant, _, exp = f"{v:.4g}".partition("e")
+        v_tex = mant + (rf" \times 10^{{{int(exp)}}}" if exp else "")
+        parts.append(m(f"{name.name} = {v:.4g} {unit}".rstrip(),
+                       rf"{d.nt.info[name].latex} = {v_tex}\,\mathrm{{{unit_tex}}}"))
+        if v and abs(v) < NEGLIGIBLE * largest[power]:
+            parts.append(f" ({abs(v) / largest[power]:.1g} of the largest: negligible)")
+        parts.append("; " if k < len(rows) - 1 else ".")
+    return tuple(parts)
 
 
 def _coriolis(d: _Derived) -> Section:

@@ -275,3 +275,33 @@ def test_runtime_equations_do_not_import_sympy():
     proc = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
                           text=True, timeout=120, check=False)
     assert proc.returncode == 0, proc.stderr
+
+
+def _values_note(robot: str) -> dict[str, tuple[float, str, bool]]:
+    """The report's "With this robot's values" line: name -> (value, unit, negligible)."""
+    text = (GENERATED / robot / "equations.txt").read_text()
+    note = text.split("With this robot's values: ")[1].split(".\n")[0]
+    note = " ".join(line.strip().lstrip("#").strip() for line in note.splitlines())
+    out = {}
+    for part in note.split("; "):
+        name, rest = part.split(" = ")
+        value, _, tail = rest.partition(" ")
+        out[name] = (float(value), tail.split(" (")[0], "negligible" in tail)
+    return out
+
+
+@pytest.mark.parametrize("robot", ["serial_2dof", "five_bar_type1", "cart_pole"])
+def test_the_lumped_values_are_the_printed_definitions_at_the_robots_values(robot):
+    """Each value printed (4 digits) is its printed definition evaluated at the description's
+    parameters; a CAD drawing's noise is named negligible (the seed five-bar's delta and theta,
+    m l lcy with lcy a few 1e-4 mm: 1e-6 of beta), and nothing else."""
+    printed = Printed(robot)
+    note = _values_note(robot)
+    assert set(note) == {s.name for s in printed.lumped}
+    for sym, definition in printed.lumped.items():
+        want = float(definition.xreplace(printed.values))
+        got, unit, negligible = note[sym.name]
+        assert got == pytest.approx(want, rel=6e-4), (sym, got, want)
+        slider = {"alpha": "kg", "beta": "kg*m", "delta": "kg*m^2"}  # cart, pole on it
+        assert unit == (slider[sym.name] if robot == "cart_pole" else "kg*m^2")
+        assert negligible == (robot == "five_bar_type1" and sym.name in ("delta", "theta"))
