@@ -79,6 +79,9 @@ def test_excite_run_identify_round_trip(tmp_path):
             abs(v) for v in true.values()))
     for name in ("standard_parameters.csv", "report.txt", "validation.png"):
         assert (out / name).stat().st_size > 0
+    with (out / "standard_parameters.csv").open() as f:  # numbers, not "np.float64(0.5)"
+        std = {r["name"]: float(r["value"]) for r in csv.DictReader(f)}
+    assert std["m_link1"] == pytest.approx(robot.parameters["m_link1"], rel=1e-6)
     # the identified parameters, pasted into a study, run the same motion to the same torques
     text = study.read_text().replace('kind = "inverse"', 'kind = "inverse"\n'
                                      + (out / "identified_parameters.toml").read_text())
@@ -136,3 +139,14 @@ def test_friction_zero_to_rounding_in_noiseless_data_is_left_out(tmp_path, capsy
     assert rc == 0, err
     assert "warning: serial_2dof: left out " in err and "fc_joint2 = " in err, err
     assert (tmp_path / "id" / "identified_robot.toml").is_file()
+
+
+@pytest.mark.parametrize("option", ["--range", "--speed", "--acceleration"])
+def test_excite_names_a_wrong_count_of_limits(tmp_path, capsys, option):
+    """Three values for a 2-joint arm printed numpy's broadcasting traceback."""
+    assert main(["excite", "serial_2dof", "--duration", "2", option, "0.5", "0.5", "0.5",
+                 "--out", str(tmp_path / "e.toml")]) == 2
+    err = capsys.readouterr().err
+    assert f"excitation {option[2:]} needs 2 values, one per actuated joint (or 1 for all) " \
+           "(got 3)" in err and "Traceback" not in err
+    assert not (tmp_path / "e.toml").exists()

@@ -262,7 +262,11 @@ def test_cli_sweep_writes_table_and_plot(tmp_path, capsys):
     assert "3 designs (grid), motion per design" in capsys.readouterr().out
     for argv, msg in ((["--vary", "m_link2"], "write NAME=LOW:HIGH:COUNT"),
                       (["--vary", "m_link2=0.1:0.2"], "LOW:HIGH:COUNT expected on a grid"),
-                      (["--vary", "m_link2=a,b"], "is not numbers")):
+                      (["--vary", "m_link2=a,b"], "is not numbers"),
+                      # the second --vary of a name replaced the first, the grid gone silently
+                      (["--vary", "m_link2=0.1:0.2:3", "--vary", "m_link2=0.3,0.4"],
+                       "'m_link2' is varied twice (give its values in one --vary"),
+                      (["--vary", "m_link2,m_link2=0.3,0.4"], "names a parameter twice")):
         assert main(["sweep", "serial_2dof_cartesian_move", *argv, "--out", str(tmp_path)]) == 2
         assert msg in capsys.readouterr().err
 

@@ -57,6 +57,8 @@ def _names(key) -> tuple[str, ...]:
     names = tuple(n.strip() for n in key.split(",")) if isinstance(key, str) else tuple(key)
     if not names or not all(isinstance(n, str) and n for n in names):
         raise InputError(f"vary: {key!r} is not a parameter name (or names tied together)")
+    if len(set(names)) < len(names):
+        raise InputError(f"vary: {key!r} names a parameter twice")
     return names
 
 

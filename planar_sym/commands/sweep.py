@@ -71,7 +71,11 @@ def parse_vary(items: list[str], random: bool) -> dict:
             value = tuple(numbers)
         else:
             value = numbers
-        vary[name.strip()] = value
+        key = name.strip()
+        if key in vary:  # a dict would keep the last silently (a user's grid vanished)
+            raise InputError(f"--vary {item!r}: {key!r} is varied twice (give its values in one "
+                             "--vary, e.g. NAME=V1,V2,V3)")
+        vary[key] = value
     return vary
 
 

@@ -86,7 +86,12 @@ def default_limits(robot: Robot, range_=None, speed=None, acceleration=None) -> 
     def given(v, k, name):
         if v is None:
             return defaults[:, k]
-        a = np.broadcast_to(np.asarray(v, dtype=float), (len(act),)).copy()
+        a = np.atleast_1d(np.asarray(v, dtype=float))
+        if a.ndim != 1 or len(a) not in (1, len(act)):
+            raise InputError(f"excitation {name} needs {len(act)} value"
+                             f"{'s' * (len(act) > 1)}, one per actuated joint (or 1 for all) "
+                             f"(got {a.size})")
+        a = np.broadcast_to(a, (len(act),)).copy()
         if not np.all(np.isfinite(a) & (a > 0)):
             raise InputError(f"excitation {name} must be positive numbers (one per actuated "
                              f"joint or one for all), got {v}")

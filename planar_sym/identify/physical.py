@@ -129,6 +129,10 @@ def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
     # SLSQP meets the equalities to its tolerance (5e-23 kg*m seen on one CPU, 0 on another):
     # a first moment the description fixes at zero is zero
     pi[structural] = 0.0
+    # and its inequalities to its tolerance too: a joint without friction or rotor came out at
+    # -1.7e-21 N*m, which the parameter checks refused (20 of 30 noisy fits in a user trial)
+    drive = [i for i, k in enumerate(kinds) if k in ("jm", "fv", "fc")]
+    pi[drive] = np.maximum(pi[drive], 0.0)
     active = tuple(n for n, k, v in zip(names, kinds, pi) if k in ("jm", "fv", "fc")
                    and abs(v) <= 1e-9 * max(abs(v0) for v0 in std0.values))
     return PhysicalFit(StandardParameters(names, std0.units, std0.meanings, pi),

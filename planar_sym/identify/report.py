@@ -25,14 +25,16 @@ def write_results(robot: Robot, est: Estimate, fit: PhysicalFit, identified: Rob
     base = est.base
     rows = ["name,value,std,relative_std_pct,unit,expression"]
     for (name, v, s, r, u), expr in zip(est.table(), base.expressions()):
-        rows.append(f"{name},{v!r},{s!r},{100 * r:.4g},{u},\"{expr.split(' = ', 1)[1]}\"")
+        rows.append(f"{name},{float(v)!r},{float(s)!r},{100 * r:.4g},{u},"
+                    f"\"{expr.split(' = ', 1)[1]}\"")
     std_rows = ["name,value,unit,meaning"] + [
-        f"{n},{v!r},{u},\"{m}\"" for n, v, u, m in zip(fit.standard.names, fit.standard.values,
-                                                     fit.standard.units, fit.standard.meanings)]
+        f"{n},{float(v)!r},{u},\"{m}\"" for n, v, u, m in zip(
+            fit.standard.names, fit.standard.values, fit.standard.units, fit.standard.meanings)]
     par = identified.parameters
     toml = [("# identified by planar-sym identify: paste into a study to run it on the "
              "identified robot"), "[parameters]"]
-    toml += [f'{k} = "{par[k]!r} {par.unit(k)}"' for k in par if k.startswith(IDENTIFIED)]
+    toml += [f'{k} = "{float(par[k])!r} {par.unit(k)}"' for k in par
+             if k.startswith(IDENTIFIED)]
     pred = predicted_torques(robot, est, check)
     err = np.sqrt(np.mean((pred - check.tau) ** 2, axis=0))
     rms = np.sqrt(np.mean(check.tau ** 2, axis=0))
