@@ -150,6 +150,51 @@ def test_control_sweep_equals_the_study_with_its_parameter_sets_changed(track, o
                                        err_msg=f"{on}, design {k}: {name}")
 
 
+#: a pendulum swung up by an optimal plan and tracked by a TVLQR, its plant's rod 10 % heavier
+SWING = f"""title = "pendulum swing-up, plant heavier"
+robot = "{ROOT / 'tests' / 'robots' / 'pendulum.toml'}"
+kind = "optimal"
+[units]
+angle = "deg"
+[optimal]
+start = [-90.0]
+end = [90.0]
+objective = "effort"
+duration = 1.5
+intervals = 30
+torque_limit = [6.0]
+[control]
+law = "lqr"
+q_weight = [100.0, 1.0]
+r_weight = [1.0]
+saturate = false
+duration = 2.0
+samples = 101
+[control.plant]
+m_rod = 1.65
+"""
+
+
+def test_an_optimal_study_with_control_has_a_plant_too(tmp_path):
+    """An optimal study tracked by [control] is swept on its plant as a control study is (every
+    design ran on the study's 1.65 kg plant, in silence, and --on plant was refused as "one
+    robot, no plant"): each design equals the study run with its parameter sets, and the
+    energy it gains equals m g (2 l) of the design's rod, raised from hanging to upright."""
+    path = tmp_path / "swing.toml"
+    path.write_text(SWING)
+    st = load_study(path)
+    for on in ("both", "plant"):
+        res = sweep(path, {"m_rod": [1.4, 1.6]}, on=on, workers=1)
+        assert res.varied == ("m_rod_kg", "plant_m_rod_kg") and not res.failed
+        for k, m in enumerate((1.4, 1.6)):
+            assert res.columns["plant_m_rod_kg"][k] == m
+            model = {"m_rod": (m, "kg")} if on == "both" else {}
+            ref = direct(st, model, {"m_rod": (m, "kg")})
+            gained = ref.columns["energy_j"][-1] - ref.columns["energy_j"][0]
+            assert res.columns["energy_change_j"][k] == pytest.approx(gained, rel=1e-12)
+            assert gained == pytest.approx(m * 9.81 * 2 * 0.25, rel=1e-3)
+
+
 def test_model_and_plant_differ_where_they_should(track):
     """Computed torque with a model equal to the plant tracks to the integrator's accuracy
     (about 1e-12 rad); a mismatch leaves an error of millirads. So: on both every design

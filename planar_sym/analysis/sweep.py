@@ -89,7 +89,8 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
         collect its summary (workspace area, worst dexterity, ...). ``study`` then only names
         the robot and its parameters.
     on : {"both", "model", "plant"}
-        For a control study: the designs change the controller's model and the plant
+        For a control study (or an optimal one with ``[control]``): the designs change the
+        controller's model and the plant
         (default; a varied parameter that ``[control.plant]`` sets takes the design's value
         there too), the model only (the plant keeps the study's plant), or the plant only (the
         controller keeps the study's model). Any other study has one robot: only "both".
@@ -114,13 +115,16 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
     if not isinstance(on, str) or on not in ON:
         raise InputError(f"on must be 'both', 'model' or 'plant' (got {on!r})")
     robot = robot_of(st)
-    if on != "both" and (st.kind != "control" or atlas is not None):
+    # a control study, or an optimal one tracked by [control]: a controller's model and a plant
+    # (the optimal one's plant was left out: every design ran on the study's plant, silently)
+    controlled = st.control is not None and atlas is None
+    if on != "both" and not controlled:
         what = ("an atlas sweep runs on one robot" if atlas is not None else
                 f"{st.name} is a study of kind = \"{st.kind}\": one robot, no plant")
         raise InputError(f"on = {on!r} is for control studies (a controller's model and a "
                          f"plant): {what}; leave on = 'both'")
     space, plant_P = plant_designs(st, robot, vary, on, sample=sample, count=count, seed=seed,
-                              control=atlas is None and st.kind == "control")
+                              control=controlled)
     if workers is not None and (not isinstance(workers, (int, np.integer)) or workers < 1):
         raise InputError(f"workers must be an integer >= 1 (got {workers!r})")
     if batch is not None and (not isinstance(batch, (int, np.integer)) or batch < 1):
