@@ -345,3 +345,25 @@ def test_no_motor_columns_without_actuator_models():
     table keeps its joint-side columns only."""
     res = sweep("serial_2dof_cartesian_move", {"m_link2": [0.06, 0.09]})
     assert not [c for c in res.columns if "motor" in c or "power" in c]
+
+
+def test_the_tool_is_where_the_plants_geometry_puts_it(tmp_path):
+    """A plant whose upper arm is 10 mm longer than the model's (px_link1_CS2 0.11 m, model
+    0.1 m): x, y are the plant's forward kinematics of the joints it reached, by hand,
+    a1 cos q1 + a2 cos(q1 + q2); the model's put the tool about 10 mm off where it was and
+    reported a tracking error of under a millimetre."""
+    text = (ROOT / "planar_sym" / "studies" / "serial_2dof_cartesian_track.toml").read_text()
+    path = tmp_path / "long_arm.toml"
+    path.write_text(text.replace("m_link2 = 0.09              # kg (the controller assumes "
+                                 "0.075)", "px_link1_CS2 = 0.11").split("[outputs]")[0])
+    res = ps.run_study(path)
+    c = res.columns
+    q1, q2 = c["q1_rad"], c["q2_rad"]
+    a1, a2 = 0.11, 0.1
+    np.testing.assert_allclose(c["x_mm"], 1e3 * (a1 * np.cos(q1) + a2 * np.cos(q1 + q2)),
+                               rtol=0, atol=1e-10)
+    np.testing.assert_allclose(c["y_mm"], 1e3 * (a1 * np.sin(q1) + a2 * np.sin(q1 + q2)),
+                               rtol=0, atol=1e-10)
+    e = np.hypot(c["x_ref_mm"] - c["x_mm"], c["y_ref_mm"] - c["y_mm"])
+    np.testing.assert_allclose(c["e_task_mm"], e, rtol=1e-12, atol=1e-12)
+    assert c["e_task_mm"][-1] > 5.0  # the joints track; the longer arm puts the tool off
