@@ -18,7 +18,7 @@ import re
 from contextlib import contextmanager
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, WorkspaceError
 
 
 def register(sub) -> None:
@@ -38,6 +38,9 @@ def register(sub) -> None:
                                                        "negative values)")
     end.add_argument("--to", metavar="A,B[,...]", help="end position")
     p.add_argument("--duration", type=float, required=True, help="seconds")
+    p.add_argument("--start-pose", default=None, metavar="Q1,Q2[,...]",
+                   help="a task move's starting joint coordinates (in --angle, --length), "
+                        "which pick the assembly or elbow mode (default: from the drawn pose)")
     p.add_argument("--profile", choices=("cubic", "quintic"), default="cubic",
                    help="cubic (the seed's coeff_3rd, default) or quintic")
     p.add_argument("--samples", type=int, default=201, help="samples (default 201)")
@@ -76,6 +79,8 @@ def study_table(args) -> dict:
         motion["end"] = _vector(args.to, "--to")
     if args.ik is not None:
         motion["ik"] = args.ik
+    if args.start_pose is not None:
+        motion["start_pose"] = _vector(args.start_pose, "--start-pose")
     params = {}
     for item in args.set:
         key, sep, value = item.partition("=")
@@ -130,6 +135,8 @@ def run(args) -> int:
 _OPTION_OF = {"motion.duration": "--duration", "motion.start": "--from", "motion.by": "--by",
               "motion.end": "--to", "motion.samples": "--samples", "motion.profile": "--profile",
               "motion.ik": "--ik", "units.angle": "--angle", "units.length": "--length",
+              "q_start, or a study's motion.start_pose": "--start-pose",
+              "motion.start_pose": "--start-pose", 'space = "joint"': "--joint",
               "parameters.": "--set ", "parameters": "--set", "invalid study": "invalid move"}
 
 
@@ -139,11 +146,11 @@ def _in_options():
     so ``motion.duration: must be > 0`` is said of ``--duration``."""
     try:
         yield
-    except InputError as exc:
+    except (InputError, WorkspaceError) as exc:
         text = str(exc)
         for fld, option in _OPTION_OF.items():
             text = re.sub(rf"(?<![\w.]){re.escape(fld)}(?![\w])" if not fld.endswith(".")
                           else rf"(?<![\w.]){re.escape(fld)}", option, text)
         if text == str(exc):
             raise
-        raise InputError(text) from None
+        raise (WorkspaceError if isinstance(exc, WorkspaceError) else InputError)(text) from None
