@@ -4,7 +4,9 @@ start and a displacement of different lengths do not blame the displacement alon
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
+from conftest import ROBOTS_DIR
 
 from planar_sym.cli import main
 
@@ -42,10 +44,6 @@ def test_a_robot_drawn_stretched_moves_from_a_start_pose(tmp_path, capsys):
     its singular drawn pose; the refusal pointed to a start pose that `move` had no option for.
     Now it names --start-pose, and with it the move gives the seed's closed-form IK's torques
     (the built-in serial_2dof, elbow up) to 1e-12 N*m."""
-    import numpy as np
-
-    from conftest import ROBOTS_DIR
-
     arm = tmp_path / "arm2.toml"
     arm.write_text((ROBOTS_DIR / "serial_2dof.toml").read_text().replace(
         'name = "serial_2dof"', 'name = "arm2"', 1))
