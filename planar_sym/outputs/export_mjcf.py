@@ -101,7 +101,7 @@ def to_mjcf(robot, ideal: bool = False) -> str:
         closures ``USER_SOLREF``/``USER_SOLIMP``, a header comment naming robot, description,
         input hash and SI units.
     """
-    model = from_robot(robot, drives=not ideal)
+    model = from_robot(robot, drives=not ideal, left_out="--ideal: the ideal machine, as asked")
     # laid out in the drawn pose (on the loops): MuJoCo's reset state (qpos0, the joints'
     # ref) is then a pose the equality constraints hold, not q = 0, where a closed chain's
     # cut joints gape and the first steps blow it apart; qpos stays q

@@ -132,7 +132,8 @@ def from_description(desc: Description) -> RigidModel:
         source=Path(desc.path).name if desc.path else "")
 
 
-def from_robot(robot, drives: bool = False) -> RigidModel:
+def from_robot(robot, drives: bool = False, left_out: str = "this file has no place for them"
+               ) -> RigidModel:
     """The robot's description with ``robot.parameters`` (SI) in place of its values.
 
     Parameters
@@ -142,6 +143,8 @@ def from_robot(robot, drives: bool = False) -> RigidModel:
     drives : bool
         Carry the drive train (``RigidModel.drives``), for a format that holds it (MJCF);
         False: the rigid bodies only, every non-zero actuator figure named as not exported.
+    left_out : str
+        Why, in that warning: the format has no place for them, or the ideal machine was asked.
 
     Raises
     ------
@@ -189,8 +192,8 @@ def from_robot(robot, drives: bool = False) -> RigidModel:
         skipped = tuple(k for k, x in v.items() if k.startswith(ACTUATOR_PREFIXES) and x != 0.0)
         if skipped:
             warnings.warn(f"{robot.name}: actuator figures {', '.join(skipped)} are not exported "
-                          "(this file has no place for them): the file holds the rigid bodies "
-                          "only", RuntimeWarning, stacklevel=3)
+                          f"({left_out}): the file holds the rigid bodies only", RuntimeWarning,
+                          stacklevel=3)
     return RigidModel(
         robot.name, robot.title, bodies, tuple(desc.tree_joints), tuple(desc.loop_joints),
         {j.name: v.get(f"s0_{j.name}", 0.0) for j in desc.tree_joints if j.type == "prismatic"},
@@ -205,7 +208,7 @@ def _inexact_drives(train, joints: dict[str, Joint]) -> tuple[str, ...]:
     """What MJCF's armature, damping and frictionloss cannot hold exactly, one sentence each."""
     out = []
     for d in train.drives:
-        if d.rotor_inertia and joints[d.joint].parent != GROUND:
+        if d.rotor_inertia and _turns(joints[d.joint].parent, joints):
             out.append(f"jm_{d.joint}: the rotor turns with {joints[d.joint].parent}; its "
                        f"coupling N J_m = {d.gear_ratio * d.rotor_inertia!r} kg*m^2 between "
                        f"{d.joint} and the joints that turn {joints[d.joint].parent} is not "
@@ -217,6 +220,19 @@ def _inexact_drives(train, joints: dict[str, Joint]) -> tuple[str, ...]:
                        f"frictionloss (dry friction, a soft constraint), not as the smooth "
                        f"c tanh(qd / {d.smoothing!r}) of planar-sym")
     return tuple(out)
+
+
+def _turns(body: str, joints: dict[str, Joint]) -> bool:
+    """Whether ``body`` can turn: a revolute joint between it and the ground. A stator on a
+    body that only slides (a cart) adds no coupling, and was warned about (a user trial:
+    MuJoCo's mass matrix equal to 3e-17)."""
+    by_child = {j.child: j for j in joints.values()}
+    while body != GROUND and body in by_child:
+        j = by_child[body]
+        if j.type == "revolute":
+            return True
+        body = j.parent
+    return False
 
 
 def _with_values(body: Body, v: dict[str, float]) -> Body:
