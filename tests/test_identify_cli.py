@@ -150,3 +150,41 @@ def test_excite_names_a_wrong_count_of_limits(tmp_path, capsys, option):
     assert f"excitation {option[2:]} needs 2 values, one per actuated joint (or 1 for all) " \
            "(got 3)" in err and "Traceback" not in err
     assert not (tmp_path / "e.toml").exists()
+
+
+def _table(path, header, rows):
+    path.write_text(",".join(header) + "\n" + "".join(",".join(f"{v:.6g}" for v in r) + "\n"
+                                                       for r in rows))
+    return path
+
+
+def test_times_in_ms_are_named_before_any_fit(tmp_path, capsys):
+    """Milliseconds under t_s were fitted, and the result refused as an implausible inertia
+    of a parameter the user never gave (user trial): the sampling rate names the column."""
+    t = np.arange(0.0, 400.0) * 5.0  # 200 Hz, written in ms
+    rows = np.column_stack([t, np.sin(t / 1e3), np.cos(t / 1e3), np.sin(t / 500), t * 0])
+    data = _table(tmp_path / "ms.csv", ["t_s", "q1_rad", "q2_rad", "tau1_n_m", "tau2_n_m"], rows)
+    assert main(["identify", "serial_2dof", "--data", str(data), "--out",
+                 str(tmp_path / "id")]) == 2
+    err = capsys.readouterr().err
+    assert "column t_s: samples 5 s apart (0.2 Hz): far too slow to identify dynamics from; " \
+           "are the times in ms?" in err, err
+    assert not (tmp_path / "id").exists()
+
+
+def test_columns_of_another_robots_coordinates_are_warned_about(tmp_path):
+    """A 2-link arm's run given for a pendulum was fitted without a word (2 % residual)."""
+    from conftest import TEST_ROBOTS
+
+    from planar_sym.identify.csv_data import read_experiment
+
+    pendulum = ps.load(str(TEST_ROBOTS / "pendulum.toml"))
+    t = np.arange(0.0, 4.0, 0.005)
+    rows = np.column_stack([t, np.sin(t), np.cos(t), np.sin(2 * t), np.cos(2 * t)])
+    data = _table(tmp_path / "arm.csv", ["t_s", "q1_rad", "q2_rad", "tau1_n_m", "tau2_n_m"],
+                  rows)
+    with pytest.warns(RuntimeWarning, match=r"arm.csv: columns q2_rad, tau2_n_m are of "
+                                            r"coordinates pendulum does not have \(it has 1\): "
+                                            r"data of another robot\?"):
+        ex = read_experiment(pendulum, data)
+    assert ex.q.shape[1] == 1

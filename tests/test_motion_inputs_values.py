@@ -145,6 +145,22 @@ def test_read_table_a_bad_time_then_a_time_going_back(tmp_path):
         f"  {path}: line 5: time 1 s not increasing (line 4 has 2 s)")
 
 
+def test_read_table_rows_in_reverse_order_are_one_message(tmp_path):
+    """A file written newest first listed 800 near-identical lines (a user trial): more than
+    MAX_LISTED rows out of order are one problem, counted, the first named."""
+    from planar_sym.motion.tables import MAX_LISTED
+
+    n = MAX_LISTED + 5
+    rows = "".join(f"{n - k},{k}\n" for k in range(n))
+    path = _csv(tmp_path, "t_s,x_m\n" + rows)
+    assert _message(read_table, path, ["x_m"]) == (
+        f"{path}: column t_s: {n - 1} of {n} rows are not later than the rows before them "
+        f"(line 3: time {n - 1} s not increasing (line 2 has {n} s)): sort the rows by time")
+    few = _csv(tmp_path, "t_s,x_m\n0,1\n2,2\n1,3\n3,4\n")  # a few: each is named
+    assert _message(read_table, few, ["x_m"]) == (
+        f"{few}: line 4: time 1 s not increasing (line 3 has 2 s)")
+
+
 def test_read_table_one_trailing_empty_header_cell(tmp_path):
     # Excel often writes "t_s,x_m," : the header names 2 columns, a third cell may be blank
     path = _csv(tmp_path, "t_s,x_m,\n0,1,\n1,2, \n")

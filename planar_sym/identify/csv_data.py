@@ -15,14 +15,19 @@ used as they are; otherwise positions and torques are filtered and differentiate
 from __future__ import annotations
 
 import csv
+import re
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, warn_caller
 from ..model.robot import Robot
 from ..motion.tables import read_table
 from .data import Experiment, experiment
+
+#: a median time step above this (s) is no dynamic experiment (a rate below 2 Hz)
+SLOWEST_S = 0.5
+_COORD = re.compile(r"^(q|qd|qdd|tau)(\d+)_")
 
 
 def read_experiment(robot: Robot, path: str | Path, cutoff_hz: float | None = None,
@@ -47,10 +52,19 @@ def read_experiment(robot: Robot, path: str | Path, cutoff_hz: float | None = No
     def present(kind: str, coords) -> bool:
         return all(any(n in header for n in names(kind, i)) for i in coords)
 
+    other = sorted({h for h in header if (m := _COORD.match(h)) and int(m[2]) > robot.n})
+    if other:  # a 2-link arm's run fitted to a pendulum gave a 2 % residual and no word
+        warn_caller(f"{path}: columns {', '.join(other)} are of coordinates {robot.name} does "
+                    f"not have (it has {robot.n}): data of another robot?")
     every, act = range(robot.n), list(robot.actuated)
     q_coords = every if present("q", every) or not robot.is_closed_chain else act
     columns = [names("q", i) for i in q_coords] + [names("tau", i) for i in act]
     t, values = read_table(path, columns)  # every problem of the file at once, SI
+    step = float(np.median(np.diff(t)))
+    if step > SLOWEST_S:  # milliseconds under t_s were fitted, then blamed on an inertia
+        raise InputError(f"{path}: column t_s: samples {step:.4g} s apart ({1 / step:.3g} Hz): "
+                         "far too slow to identify dynamics from; are the times in ms? (the "
+                         "column is in s)")
     nq = len(q_coords)
     q, tau = values[:, :nq], values[:, nq:]
     if not filtered and present("qd", every) and present("qdd", every):

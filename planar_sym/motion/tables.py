@@ -160,16 +160,22 @@ def read_table(path: str | Path, columns: list[str] | list[list[str]]
         problems.append(f"{path}: needs at least 2 rows of numbers (has {len(data)})")
     if chosen[0] is not None:
         last = None  # (line, time) of the latest row with a valid time
+        order = []
         for line, values in zip(lines, data):
             t = values[0]
             if math.isnan(t):
                 continue
             if last is not None and not t > last[1]:
                 what = "repeated" if t == last[1] else "not increasing"
-                problems.append(f"{path}: line {line}: time {t:g} s {what} (line {last[0]} "
-                                f"has {last[1]:g} s)")
+                order.append(f"{path}: line {line}: time {t:g} s {what} (line {last[0]} "
+                             f"has {last[1]:g} s)")
             else:
                 last = (line, t)
+        if len(order) > MAX_LISTED:  # one mistake (rows reversed, or unsorted): one message
+            order = [(f"{path}: column {chosen[0]}: {len(order)} of {len(data)} rows are not "
+                      f"later than the rows before them ({order[0].split(': ', 1)[1]}): sort "
+                      "the rows by time")]
+        problems += order
     if len(problems) == 1:
         raise InputError(problems[0])
     if problems:

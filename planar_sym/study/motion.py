@@ -170,8 +170,9 @@ def _check_loops(st, robot: Robot, fld: str, q: np.ndarray, limit: float) -> Non
     gap = np.abs(robot.constraint(q)).reshape(-1, 2)
     worst = int(np.argmax(np.max(gap, axis=1)))
     if gap.max() > limit:
-        hint = (f"; give the actuated joints only ({len(robot.actuated)} values) and the "
-                "loops give the rest" if fld == "simulation.q0" else "")
+        na = len(robot.actuated)
+        hint = (f"; give the actuated joints only ({na} value{'s' * (na > 1)}) and the loops "
+                "give the rest" if fld == "simulation.q0" else "")
         raise InputError(f"{st.path or st.name}: {fld} does not close the loop at cut joint "
                          f"{robot.loops[worst]}: the joint's two points are "
                          f"{np.hypot(*gap[worst]) * 1e3:.4g} mm apart (limit "
