@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import tomllib
+from pathlib import Path
 
 from ..errors import InputError
 from ..expressions import constants, numbers
@@ -79,7 +80,8 @@ def identified_description(robot: Robot, identified: Robot, note: str = "") -> s
                                  ("coulomb_friction", f"fc_{name}", 1.0)):
             if param in par and act is not None and key in act:
                 act[key] = par[param] / unit
-    head = [(f"# {robot.name} as identified by planar-sym identify, from {path.name}: masses, "
+    source = Path(robot.library.manifest.get("input") or path).name  # the user's file's name
+    head = [(f"# {robot.name} as identified by planar-sym identify, from {source}: masses, "
              "centres of gravity,"),
             ("# inertias, rotor inertias and friction are the physically consistent identified "
              f"values, in [units]. {note}").rstrip()]

@@ -221,8 +221,8 @@ def excite(robot: Robot, duration_s: float, harmonics: int = 5, *, limits: Limit
     if best is None:
         raise WorkspaceError(f"{robot.name}: no exciting motion found within the limits "
                              "(ranges, speeds, accelerations, torques and, for a closed chain, "
-                             "the loops within COND_FACTOR of the drawn pose's conditioning): widen them, or lengthen "
-                             "the period")
+                             f"the loops' conditioning within {COND_FACTOR:g} times the drawn "
+                             "pose's): widen them, or lengthen the period")
     x, cost = best[1], best[0]
     if np.any(np.isfinite(tau_max)):
         # the torques were held at the samples; between them a peak passed its limit by 0.02 %
