@@ -367,3 +367,14 @@ def test_the_tool_is_where_the_plants_geometry_puts_it(tmp_path):
     e = np.hypot(c["x_ref_mm"] - c["x_mm"], c["y_ref_mm"] - c["y_mm"])
     np.testing.assert_allclose(c["e_task_mm"], e, rtol=1e-12, atol=1e-12)
     assert c["e_task_mm"][-1] > 5.0  # the joints track; the longer arm puts the tool off
+
+
+def test_a_misspelt_plant_parameter_gets_the_nearest_name(tmp_path):
+    """`[control.plant] m_lnk2` listed the known names only, where a misspelt key of the
+    study got "did you mean"."""
+    path = tmp_path / "typo.toml"
+    path.write_text(TRACK.replace("m_link2 = 0.09 ", "m_lnk2 = 0.09 "))
+    with pytest.raises(InputError, match=r"control.plant.m_lnk2: not a parameter of "
+                                         r"serial_2dof_geared \(known: .*\); did you mean "
+                                         r"'m_link2'\?$"):
+        ps.run_study(path)

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..expressions import ExpressionError, quantity
+from ..spelling import did_you_mean
 from .arrays import as_samples
 from .parameters import doubts, problems
 from .units import factor
@@ -196,7 +197,7 @@ class Parameters(Mapping):
         for name, value in values.items():
             if name not in self._index:
                 raise InputError(f"{head}unknown parameter {name!r} of {self.owner}; known: "
-                                 f"{', '.join(self._index)}")
+                                 f"{', '.join(self._index)}{did_you_mean(name, self._index)}")
             try:
                 p[self._index[name]] = float(value)
             except (TypeError, ValueError, OverflowError):

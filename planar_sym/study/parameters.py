@@ -10,6 +10,7 @@ from ..errors import InputError
 from ..model.parameter_set import QUANTITY
 from ..model.robot import Robot
 from ..model.units import factor
+from ..spelling import did_you_mean
 
 
 def description_units(robot: Robot) -> dict[str, str] | None:
@@ -39,7 +40,7 @@ def _convert(robot: Robot, overrides: dict[str, tuple[float, str | None]], where
     for name, (value, unit) in overrides.items():
         if name not in known:
             problems.append(f"{where}.{name}: not a parameter of {robot.name} (known: "
-                            f"{', '.join(known)})")
+                            f"{', '.join(known)}){did_you_mean(name, known)}")
             continue
         quantity = QUANTITY.get(known[name].unit)
         if unit is None:
