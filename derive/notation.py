@@ -97,6 +97,7 @@ class Notation:
     def compact(self, e: sp.Expr) -> sp.Expr:
         """Display names, and s/c symbols for sines and cosines of sums of joint angles."""
         e = sp.expand(e).xreplace(self.sub)
+        e = _exact_floats(e)
         rep = {}
         for f in sorted(e.atoms(sp.sin, sp.cos), key=sp.default_sort_key):
             parts = f.args[0].as_coefficients_dict()
@@ -300,3 +301,16 @@ def _common_factor(e: sp.Expr, pick=lambda b: True) -> tuple[sp.Expr, sp.Expr, s
     if all(c.could_extract_minus_sign() for c in coefs):  # -beta*(...), not beta*(-... - ...)
         content, rest = -content, -rest
     return content, mono, rest
+
+
+def _exact_floats(e: sp.Expr) -> sp.Expr:
+    """Floats that a slanted rail's direction leaves in an expression (its sine squared plus
+    its cosine squared printed ``1.00000000000000*m_cart``, half of it ``0.500000000000000``)
+    as the simple fraction they round, to 1e-12; any other float as it is. Re-expanded, so
+    ``1.0*x + 2*x`` collects."""
+    rep = {}
+    for f in e.atoms(sp.Float):
+        exact = sp.Rational(f).limit_denominator(1000)
+        if abs(float(exact) - float(f)) <= 1e-12 * max(1.0, abs(float(f))):
+            rep[f] = exact
+    return sp.expand(e.xreplace(rep)) if rep else e

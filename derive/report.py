@@ -77,8 +77,17 @@ def _energy(d: _Derived) -> Section:
           r"T = \tfrac12 \sum_b (m_b |v_b|^2 + I_b \omega_b^2)"),
         " and ", m("V = sum_b m_b g y_b", r"V = \sum_b m_b g y_b"),
         " over the bodies b (", m("v_b, y_b"), ": velocity and height of the centre of gravity, ",
-        m("w_b", r"\omega_b"), ": angular velocity; gravity along -y)."))
+        m("w_b", r"\omega_b"), f": angular velocity; {_gravity_along(d.model)})."))
     return energy
+
+
+def _gravity_along(model: Model) -> str:
+    """Which way "height" is measured: against gravity (a tilted [6, -8] was said to be -y)."""
+    gx, gy = model.desc.gravity_m_s2
+    if gx == 0.0 and gy < 0.0:
+        return "gravity along -y"
+    n = math.hypot(gx, gy) or 1.0
+    return f"gravity along ({gx / n:.4g}, {gy / n:.4g}), the height measured against it"
 
 
 def _euler_lagrange(d: _Derived) -> Section:
@@ -272,14 +281,19 @@ def _properties(model: Model) -> list[Rich]:
     pr = properties.check(model)
     closed = model.constraints.count > 0
     tree = " (of the tree: the chain cut open at its loop joints)" if closed else ""
+    slides = "m" in model.desc.coordinate_units
+    poses = ("every coordinate uniform in [-pi, pi], rad or m at a slider" if slides
+             else "q uniform in [-pi, pi]")
+    unit, tail = (("", " (SI: kg*m^2, kg*m or kg by the rows' joints)") if slides
+                  else (" kg*m^2", ""))
     return [
         ("M(q)" + tree + " is symmetric (checked symbolically: ",
          m("M - M^T", r"M - M^\top"), (" expands to zero) and positive definite at "
-                                       f"{pr.samples} sampled poses (q uniform in [-pi, pi], "
+                                       f"{pr.samples} sampled poses ({poses}, "
                                        "seed parameter values, random-number seed "
                                        f"{properties.SEED}): smallest eigenvalue found "
-                                       f"{pr.min_eigenvalue:.4g} kg*m^2, largest "
-                                       f"{pr.max_eigenvalue:.4g} kg*m^2.")),
+                                       f"{pr.min_eigenvalue:.4g}{unit}, largest "
+                                       f"{pr.max_eigenvalue:.4g}{unit}{tail}.")),
         (m("Mdot - 2C", r"\dot M - 2C"), " is skew-symmetric (checked symbolically: with ",
          m("N = Mdot - 2C", r"N = \dot M - 2C"), " and ",
          m("Mdot = sum_k dM/dq_k qd_k",

@@ -305,3 +305,36 @@ def test_the_lumped_values_are_the_printed_definitions_at_the_robots_values(robo
         slider = {"alpha": "kg", "beta": "kg*m", "delta": "kg*m^2"}  # cart, pole on it
         assert unit == (slider[sym.name] if robot == "cart_pole" else "kg*m^2")
         assert negligible == (robot == "five_bar_type1" and sym.name in ("delta", "theta"))
+
+
+def test_a_slanted_rail_prints_exact_fractions_and_the_words_fit_the_robot(tmp_path):
+    """A cart on a 30 degree rail, gravity tilted to (0.6, -0.8): its rail's sine squared
+    plus cosine squared printed ``1.00000000000000*m_cart`` and half a weight
+    ``0.500000000000000*m_cart*g``; the note under V said "gravity along -y" and the
+    properties sampled a slider "q uniform in [-pi, pi]" with eigenvalues in kg*m^2."""
+    from test_export_values import CART_ARM
+
+    path = tmp_path / "cart_arm.toml"
+    path.write_text(CART_ARM.replace("gravity = [0.0, -9810.0]", "gravity = [5886.0, -7848.0]"))
+    text = str(equations(str(path)))
+    flat = " ".join(line.strip().lstrip("#- ").strip() for line in text.splitlines())
+    assert "1.00000000000000" not in text and "0.500000000000000" not in text
+    assert "0.866025403784439" in text  # cos 30 deg is no simple fraction: kept as it is
+    assert "gravity along (0.6, -0.8), the height measured against it" in flat
+    assert "every coordinate uniform in [-pi, pi], rad or m at a slider" in flat
+    assert "(SI: kg*m^2, kg*m or kg by the rows' joints)" in flat
+    gx, gy = 5.886, -7.848  # the potential as printed, against the library's, at random poses
+    printed = text.split("\n  V = ")[1].split("\n  L = ")[0]
+    robot = ps.load(str(path))
+    ns = {n: sp.Symbol(n) for n in ("d1", "q2", "q3")}
+    for head, idx in re.findall(r"\b([cs])(\d+)\b", printed):
+        angle = sum(ns[f"q{i}"] for i in idx)
+        ns[head + idx] = (sp.cos if head == "c" else sp.sin)(angle)
+    values = {desc_p.name: desc_p.value for desc_p in description.load(path).parameters()}
+    ns.update({k: v for k, v in values.items()})
+    v_expr = sp.sympify(" ".join(printed.split()), locals=ns)
+    rng = np.random.default_rng(3)
+    for q in rng.uniform(-1, 1, (5, 3)):
+        got = float(v_expr.subs({ns["d1"]: q[0], ns["q2"]: q[1], ns["q3"]: q[2]}))
+        want = float(robot.energy(q, np.zeros(3))[1])
+        assert got == pytest.approx(want, rel=1e-12), (got, want, gx, gy)
