@@ -807,9 +807,9 @@ def test_the_ideal_machine_names_what_it_leaves_out():
     assert len(rec) == 1
     left = ("jm_shoulder, fv_shoulder, fc_shoulder, jm_extend, fv_extend, fc_extend, jm_wrist, "
             "fv_wrist")  # fc_wrist = 0: nothing left out
-    assert str(rec[0].message) == (f"rpr_geared: actuator figures {left} are not exported (this "
-                                   "file has no place for them): the file holds the rigid bodies "
-                                   "only")
+    assert str(rec[0].message) == (f"rpr_geared: actuator figures {left} are not exported "
+                                   "(--ideal: the ideal machine, as asked): the file holds the "
+                                   "rigid bodies only")
     assert comment(xml)[-1] == (f"NOT exported (actuator models, no exact equivalent here): "
                                 f"{', '.join(left.split(', '))}; the file holds the rigid bodies "
                                 "only.")

@@ -244,3 +244,9 @@ def test_the_written_excitation_runs_within_its_torque_limit(tmp_path, capsys):
     assert "limit exceeded" not in capsys.readouterr().err
     tau = np.genfromtxt(tmp_path / "run" / "exc.csv", delimiter=",", names=True)["tau1_n_m"]
     assert 1.19 < np.abs(tau).max() <= 1.2
+    # identified from it, the description file names the user's file, not the cache's copy
+    # ("from description.toml" before)
+    assert main(["--quiet", "identify", str(robot), "--data", str(tmp_path / "run" / "exc.csv"),
+                 "--out", str(tmp_path / "id")]) == 0
+    head = (tmp_path / "id" / "identified_robot.toml").read_text().splitlines()[0]
+    assert head.startswith("# pend_lim as identified by planar-sym identify, from pend_lim.toml:")

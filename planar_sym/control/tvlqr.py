@@ -49,7 +49,8 @@ class TVLQR:
     """``t_s`` (N,) the motion's sample times (s); ``gain`` (N, actuated, 2k) K(t) there and
     ``riccati`` (N, 2k, 2k) P(t), k the coordinates of the state (``hold.linearization``);
     ``motion`` and ``tau`` (N, actuated) N*m (N) the plan it tracks; ``hold`` the LQR about
-    the end, the law after it."""
+    the end, the law after it; ``reference`` how x_r and u_r run between the samples
+    (``"spline"`` or ``"hermite"``, see the module's note)."""
 
     t_s: np.ndarray
     gain: np.ndarray

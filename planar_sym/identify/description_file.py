@@ -80,7 +80,9 @@ def identified_description(robot: Robot, identified: Robot, note: str = "") -> s
                                  ("coulomb_friction", f"fc_{name}", 1.0)):
             if param in par and act is not None and key in act:
                 act[key] = par[param] / unit
-    source = Path(robot.library.manifest.get("input") or path).name  # the user's file's name
+    # the user's file's name (the manifest's input), not the cache's copy, description.toml
+    library = getattr(robot, "library", None)
+    source = Path((library.manifest.get("input") if library else None) or path).name
     head = [(f"# {robot.name} as identified by planar-sym identify, from {source}: masses, "
              "centres of gravity,"),
             ("# inertias, rotor inertias and friction are the physically consistent identified "
