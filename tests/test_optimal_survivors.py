@@ -536,6 +536,9 @@ def test_optimal_move_refusals_word_for_word(wheel, motor_wheel, monkeypatch):
          "objective 'energy' needs duration_s > 0 (s)"),
         ({"objective": "time", "torque_limit": [0.5, 0.0]},
          "torque_limit must be positive and finite, got [0.5, 0.0]"),
+        ({"objective": "time", "torque_limit": [0.5, 0.1], "duration_s": 1.0},
+         ("objective 'time' finds the duration: leave duration_s out (got 1.0), or minimise "
+          "'effort' or 'energy' in it")),
         ({"duration_s": 1.0, "speed_limit": [1.0, 0.0]},
          "speed_limit must be positive, got [1.0, 0.0]"),
     ]
@@ -545,16 +548,17 @@ def test_optimal_move_refusals_word_for_word(wheel, motor_wheel, monkeypatch):
         assert str(err.value) == message, kwargs
     with pytest.raises(InputError) as err:
         ps.optimal_move(arm, [0.0, 0.0], [0.5, 0.5, 0.5], duration_s=1.0)
-    assert str(err.value) == ("q_end must be 2 finite values (the every coordinates of "
-                              "serial_2dof) or 2, got [0.5, 0.5, 0.5]")
+    assert str(err.value) == ("q_end must be 2 finite values for serial_2dof (one per "
+                              "coordinate), got [0.5, 0.5, 0.5]")
     with pytest.raises(InputError) as err:
         ps.optimal_move(arm, [0.0, np.nan], [0.5, 0.5], duration_s=1.0)
     assert str(err.value).startswith("q_start must be 2 finite values")
     fb = ps.load("five_bar_type1")
     with pytest.raises(InputError) as err:
         ps.optimal_move(fb, [0.1, 0.2, 0.3], [0.0, 0.0], duration_s=1.0)
-    assert str(err.value) == ("q_start must be 2 finite values (the actuated coordinates of "
-                              "five_bar_type1) or 4, got [0.1, 0.2, 0.3]")
+    assert str(err.value) == ("q_start must be 2 finite values for five_bar_type1 (its "
+                              "actuated coordinates, or 4 for a pose on its loops), got "
+                              "[0.1, 0.2, 0.3]")
     off = np.zeros(4)
     with pytest.raises(InputError) as err:
         ps.optimal_move(fb, fb.q_drawn, off, duration_s=1.0)

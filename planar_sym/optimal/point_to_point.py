@@ -52,7 +52,9 @@ class OptimalMove:
     ``q``, ``qd``, ``qdd`` each of shape (N + 1, n), ``qdd`` the interval's constant
     acceleration, the last node repeating the last interval's), ``tau`` (N + 1, actuated)
     N*m (N at a slider) there (each interval's start; the last node: the last interval's
-    end), ``duration_s``, ``objective`` (s for "time", N^2*m^2*s for "effort", J for
+    end: the plan's own torques, first order in the interval against the continuous optimum,
+    whose peak is higher by about half an interval's change: a cart's least-effort peak
+    2.4 % low at 40 intervals, 1.2 % at 80), ``duration_s``, ``objective`` (s for "time", N^2*m^2*s for "effort", J for
     "energy"), and IPOPT's report ``solver``: iterations, status, the largest constraint
     violation and the solve time (s)."""
 
@@ -87,6 +89,9 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
         "every actuator): one per actuated joint, N*m") if objective == "time" else None)
     if objective in ("effort", "energy") and (duration_s is None or not duration_s > 0):
         raise InputError(f"objective {objective!r} needs duration_s > 0 (s)")
+    if objective == "time" and duration_s is not None:  # it was ignored without a word
+        raise InputError(f"objective 'time' finds the duration: leave duration_s out (got "
+                         f"{duration_s!r}), or minimise 'effort' or 'energy' in it")
     if objective == "energy":
         copper_losses(robot)  # refused here if a motor lacks its electrical figures
     own = act if closed else list(range(n))  # the coordinates integrated
@@ -269,9 +274,10 @@ def _ends(robot: Robot, q, name: str, own: list[int]) -> np.ndarray:
                              "coordinates, or a pose on the loops")
         arr = arr[own]
     if len(arr) != len(own) or not np.all(np.isfinite(arr)):
-        raise InputError(f"{name} must be {len(own)} finite values (the "
-                         f"{'actuated' if robot.is_closed_chain else 'every'} coordinates of "
-                         f"{robot.name}) or {robot.n}, got {np.asarray(q).tolist()}")
+        what = (f"its actuated coordinates, or {robot.n} for a pose on its loops"
+                if robot.is_closed_chain else "one per coordinate")
+        raise InputError(f"{name} must be {len(own)} finite value{'s' * (len(own) > 1)} for "
+                         f"{robot.name} ({what}), got {np.asarray(q).tolist()}")
     return arr
 
 
