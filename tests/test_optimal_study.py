@@ -138,7 +138,7 @@ def test_optimal_table_errors():
         (("kind = \"inverse\"\n[motion]\nspace = \"joint\"\nstart = [0.0]\nby = [1.0]\n"
           "duration = 1.0\n[optimal]\nstart = [0.0]\nend = [1.0]"), "optimal: only for kind"),
         ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0, 2.0]\nduration = 1.0",
-         "optimal.end: must have 1 values"),
+         "optimal.end: has 2 values and optimal.start 1: both need one per coordinate"),
         (("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0]\nobjective = \"time\"\n"
           "duration = 1.0"), "optimal.duration: not used by objective = \"time\""),
         ("kind = \"optimal\"\n[optimal]\nstart = [0.0]\nend = [1.0]", "optimal.duration"),
@@ -156,6 +156,17 @@ def test_a_start_of_the_wrong_width_names_the_field(tmp_path):
                     "0.0]\nend = [0.0, 1.5, 0.0]\nduration = 2.0\n")
     with pytest.raises(ps.InputError, match="wide.toml: optimal.start: cart_pole needs 2 "
                                             "values, one per coordinate"):
+        ps.run_study(path)
+
+
+def test_an_infeasible_move_is_named_by_the_study_and_its_field(tmp_path):
+    """IPOPT's refusal said "lengthen duration_s" and no file: the study's own words now."""
+    path = tmp_path / "rush.toml"
+    path.write_text("robot = \"cart_pole\"\nkind = \"optimal\"\n[optimal]\nstart = [0.0, -1.5708]\n"
+                    "end = [0.0, 1.5708]\nduration = 0.05\nintervals = 20\n"
+                    "torque_limit = [0.2]\n")
+    with pytest.raises(ps.SimulationError, match=r"rush.toml: optimal: cart_pole: IPOPT found no "
+                                                 r"optimal move .*lengthen optimal.duration"):
         ps.run_study(path)
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SimulationError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from . import spec as specs
@@ -52,6 +52,9 @@ def plan(st: specs.Study, robot: Robot):
                             torque_limit=limit, speed_limit=speed, intervals=o.intervals)
     except InputError as exc:
         raise InputError(f"{where}: optimal: {exc}") from None
+    except SimulationError as exc:  # infeasible: named by the study and its own field names
+        raise SimulationError(f"{where}: optimal: " + str(exc).replace(
+            "lengthen duration_s", "lengthen optimal.duration")) from None
     s = move.solver
     kinds = {robot.coordinate_units[i] for i in act}  # "m": a slider's force, N
     unit = ("s" if o.objective == "time" else "J" if o.objective == "energy" else

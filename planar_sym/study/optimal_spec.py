@@ -48,8 +48,10 @@ def parse_optimal(c: Checker, tbl: dict) -> OptimalSpec | None:
     start = c.vector(tbl, "start", "optimal.start", required=True)
     end = c.vector(tbl, "end", "optimal.end", required=True)
     if start is not None and end is not None and len(start) != len(end):
-        c.err("optimal.end", f"must have {len(start)} values like optimal.start "
-                             f"(got {len(end)})")
+        # which of the two is wrong is the robot's to say: both are named
+        c.err("optimal.end", f"has {len(end)} value{'s' * (len(end) != 1)} and optimal.start "
+                             f"{len(start)}: both need one per coordinate (a closed chain's: "
+                             "per actuated joint, or a whole pose)")
     objective = c.choice(tbl, "objective", "optimal.objective", OBJECTIVES, "effort")
     duration = None
     if objective in ("effort", "energy"):
