@@ -180,6 +180,26 @@ def test_draw_command_writes_a_png_of_the_figure_size(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["five.png"]  # no temporary files
 
 
+def test_a_robot_that_is_one_point_gets_a_frame_to_be_drawn_in(tmp_path):
+    """A cart drawn as its mass on a rail: its span is zero, and matplotlib warned twice of
+    identical axis limits (a user trial). It gets 0.1 m about the point, its frame's arrows
+    a length."""
+    import warnings
+
+    path = tmp_path / "cart.toml"
+    path.write_text('name = "cart"\ntitle = "cart"\ngravity = [0.0, -9.81]\n[units]\n'
+                    'length = "m"\nmass = "kg"\nacceleration = "m/s^2"\n[ground]\n'
+                    'points = { rail = [0.0, 0.0] }\n[[bodies]]\nname = "cart"\nmass = 2.0\n'
+                    'mass_at = "C"\npoints = { C = [0.0, 0.0] }\n[[joints]]\nname = "slide"\n'
+                    'type = "prismatic"\nparent = "ground.rail"\nchild = "cart.C"\n'
+                    'actuated = true\naxis = [1.0, 0.0]\n')
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ax = drawing_figure(str(path)).axes[0]
+    lo, hi = ax.get_xlim()
+    assert 0.05 < hi - lo < 0.2 and lo < 0.0 < hi  # seen: 0.084 m
+
+
 def test_draw_errors_write_nothing(tmp_path, capsys):
     assert main(["draw", "no_such_robot", "--out", str(tmp_path / "x.png")]) == 2
     assert "unknown robot" in capsys.readouterr().err

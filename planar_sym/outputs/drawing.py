@@ -55,7 +55,9 @@ class Scene:
         self.pts = {k: v * scale for k, v in geo.points.items()}
         self.cgs = {k: v * scale for k, v in geo.cgs.items()}
         low, high = (c * scale for c in geo.extent())
-        self.span = float(max(high - low))
+        # a robot that is one point (a cart drawn as its mass) has no span: 0.1 m to draw in
+        # (matplotlib warned twice of identical limits, and the frame's arrows had no length)
+        self.span = float(max(high - low)) or 0.1 * scale
         high = np.maximum(high, 0.15 * self.span)  # room for the base frame's arrows
         # each side at least 60 % of the other: a straight arm is not drawn in a sliver
         half = np.maximum(high - low, 0.6 * self.span) / 2 + 0.12 * self.span
