@@ -145,3 +145,9 @@ def test_a_small_residual_outside_says_what_closed_means():
                                              r"workspace\): outside the workspace") as err:
         closure.solve_passive(five, [[0.0002661016949152542, 0.0]])
     assert float(str(err.value).split("|Phi| = ")[1].split(" m")[0]) < closure.NEAR_EDGE_M
+
+
+def test_a_guess_of_the_wrong_length_is_named(crank):
+    """A one-value guess for the three coordinates raised numpy's IndexError."""
+    with pytest.raises(ps.InputError, match=r"q_guess must have shape .*\(3,\), got \(1,\)"):
+        closure.solve_passive(crank, [[1.0]], q_guess=[0.0])

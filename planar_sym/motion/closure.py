@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError, WorkspaceError, warn_caller
-from ..model.arrays import as_sample_set, as_samples, when
+from ..model.arrays import as_sample_set, as_samples, as_vector, when
 from ..model.library import SingleCall
 from ..model.loops import COND_LIMIT, refuse_singular_matrices
 from ..model.robot import Robot
@@ -75,9 +75,10 @@ def _first(loops: _Loops, qa: np.ndarray, q_guess, t) -> _Pose:
     passive coordinates are the drawn ones (``simulate(project=True)`` from ``q_drawn`` with
     the crank turned) is no guess. A drawn pose that is itself singular is left to Newton."""
     robot, act, pas = loops.robot, loops.act, loops.pas
-    if q_guess is not None and np.array_equal(np.asarray(q_guess, float)[pas],
-                                              robot.q_drawn[pas]):
-        q_guess = None
+    if q_guess is not None:
+        q_guess = as_vector("q_guess", q_guess, robot.n)
+        if np.array_equal(q_guess[pas], robot.q_drawn[pas]):
+            q_guess = None
     if q_guess is not None:
         return _guessed(loops, qa, np.array(q_guess, dtype=float), t)
     q = np.array(robot.q_drawn, dtype=float)
