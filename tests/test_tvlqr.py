@@ -76,9 +76,15 @@ def test_an_equilibrium_held_has_the_lqr_gain_throughout(ref):
     t = np.linspace(0.0, 2.0, 11)
     z = np.zeros((len(t), robot.n))
     jt = JointTrajectory(t, np.tile(q, (len(t), 1)), z, z)
-    design = ps.tvlqr(robot, jt, np.tile(hold.linearization.tau, (len(t), 1)), q_weight=1.0,
-                      r_weight=1.0)
+    tau = np.tile(hold.linearization.tau, (len(t), 1))
+    design = ps.tvlqr(robot, jt, tau, q_weight=1.0, r_weight=1.0)
     assert np.abs(design.gain - hold.gain).max() <= 1e-6 * np.abs(hold.gain).max()  # RTOL 1e-8
+    n, na = robot.n, len(robot.actuated)
+    for reference in ("spline", "hermite"):  # between samples: the held state and torques
+        between = ps.tvlqr(robot, jt, tau, q_weight=1.0, r_weight=1.0, reference=reference)
+        got = between.controller().schedule(t[:-1] + 0.1)
+        assert np.abs(got[:, :n] - q).max() < 1e-12 and np.abs(got[:, n:2 * n]).max() < 1e-12
+        assert np.abs(got[:, 2 * n:2 * n + na] - tau[0]).max() <= 1e-12 * np.abs(tau).max()
     sched = design.controller().schedule
     after = sched([2.5, 40.0])
     assert np.array_equal(after[0], after[1])  # held for ever after the end

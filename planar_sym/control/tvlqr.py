@@ -73,7 +73,7 @@ class TVLQR:
         t, h = jt.t_s, np.diff(jt.t_s)[:, None]
         nseg = len(t) - 1
         coef = np.zeros((nseg + 1, 2 * n + na + 2 * n * na, 4))
-        if self.reference == "spline" and nseg > 1:
+        if self.reference == "spline":  # (two samples: the same cubic as Hermite's)
             from scipy.interpolate import CubicSpline
 
             c = CubicSpline(t, jt.q, bc_type=((1, jt.qd[0]), (1, jt.qd[-1]))).c[::-1]
