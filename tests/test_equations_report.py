@@ -16,7 +16,7 @@ import sys
 import numpy as np
 import pytest
 import sympy as sp
-from conftest import ALL_ROBOTS, CLOSED, GENERATED, ROOT, rel_err
+from conftest import ALL_ROBOTS, CLOSED, GENERATED, ROOT, TEST_ROBOTS, rel_err
 
 import planar_sym as ps
 from planar_sym.cli import main
@@ -312,10 +312,9 @@ def test_a_slanted_rail_prints_exact_fractions_and_the_words_fit_the_robot(tmp_p
     plus cosine squared printed ``1.00000000000000*m_cart`` and half a weight
     ``0.500000000000000*m_cart*g``; the note under V said "gravity along -y" and the
     properties sampled a slider "q uniform in [-pi, pi]" with eigenvalues in kg*m^2."""
-    from test_export_values import CART_ARM
-
     path = tmp_path / "cart_arm.toml"
-    path.write_text(CART_ARM.replace("gravity = [0.0, -9810.0]", "gravity = [5886.0, -7848.0]"))
+    path.write_text((TEST_ROBOTS / "geared_cart_arm.toml").read_text().replace(
+        "gravity = [0.0, -9810.0]", "gravity = [5886.0, -7848.0]"))
     text = str(equations(str(path)))
     flat = " ".join(line.strip().lstrip("#- ").strip() for line in text.splitlines())
     assert "1.00000000000000" not in text and "0.500000000000000" not in text

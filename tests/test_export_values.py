@@ -906,83 +906,13 @@ def test_span_of_a_single_point_is_one_metre():
     assert export_model.ACTUATOR_PREFIXES == ("jm_", "fv_", "fc_")
 
 
-#: a cart on a rail carrying a geared arm: j1's motor sits on the cart, which only slides, and
-#: j2's on link1, which j1 turns (from a user trial; mm, g, kg*mm^2)
-CART_ARM = """name = "cart_arm"
-title = "Inclined cart with a geared 2-link arm"
-gravity = [0.0, -9810.0]
-[units]
-length = "mm"
-mass = "g"
-inertia = "kg*mm^2"
-angle = "deg"
-acceleration = "mm/s^2"
-[ground]
-points = { O = [0.0, 0.0] }
-[[bodies]]
-name = "cart"
-mass = 1500.0
-izz = 2000.0
-cg = [5.0, -8.0]
-cg_from = "C"
-points = { C = [100.0, 57.735026919], K = [150.0, 20.0] }
-frame = ["C"]
-[[bodies]]
-name = "link1"
-mass = 400.0
-izz = 3000.0
-cg = [150.0, 20.0]
-cg_from = "A"
-points = { A = [100.0, 57.735026919], B = [400.0, 57.735026919] }
-frame = ["A", "B"]
-[[bodies]]
-name = "link2"
-mass = 250.0
-izz = 800.0
-cg = [10.0, 90.0]
-cg_from = "B"
-points = { B = [400.0, 57.735026919], E = [400.0, 257.735026919] }
-frame = ["B", "E"]
-[[joints]]
-name = "slide"
-type = "prismatic"
-parent = "ground.O"
-child = "cart.C"
-axis = [0.8660254037844386, 0.5]
-actuated = true
-[joints.actuator]
-gear_ratio = 200
-rotor_inertia = 0.1
-[[joints]]
-name = "j1"
-type = "revolute"
-parent = "cart.C"
-child = "link1.A"
-actuated = true
-[joints.actuator]
-gear_ratio = 30
-rotor_inertia = 1.0
-[[joints]]
-name = "j2"
-type = "revolute"
-parent = "link1.B"
-child = "link2.B"
-actuated = true
-[joints.actuator]
-gear_ratio = 20
-rotor_inertia = 0.5
-[task]
-point = "link2.E"
-"""
 
 
 def test_a_rotor_on_a_body_that_only_slides_is_exported_whole(tmp_path, rng):
     """j1's stator rides the cart, which cannot turn: no coupling is missing (the export said
     one was, in its warning and the file's header), and MuJoCo's inverse dynamics differs from
     ours only by j2's coupling N J_m (its stator on link1, turned by j1), as documented."""
-    path = tmp_path / "cart_arm.toml"
-    path.write_text(CART_ARM)
-    robot = ps.load(str(path))
+    robot = ps.load(str(TEST_ROBOTS / "geared_cart_arm.toml"))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         xml = to_mjcf(robot)

@@ -14,6 +14,7 @@ import csv
 
 import numpy as np
 import pytest
+from conftest import TEST_ROBOTS
 
 import planar_sym as ps
 from planar_sym.cli import main
@@ -174,8 +175,6 @@ def test_times_in_ms_are_named_before_any_fit(tmp_path, capsys):
 
 def test_columns_of_another_robots_coordinates_are_warned_about(tmp_path):
     """A 2-link arm's run given for a pendulum was fitted without a word (2 % residual)."""
-    from conftest import TEST_ROBOTS
-
     from planar_sym.identify.csv_data import read_experiment
 
     pendulum = ps.load(str(TEST_ROBOTS / "pendulum.toml"))
@@ -190,53 +189,13 @@ def test_columns_of_another_robots_coordinates_are_warned_about(tmp_path):
     assert ex.q.shape[1] == 1
 
 
-#: a geared pendulum whose joint torque limit (1.2 N*m) is what stops the excitation (a user
-#: trial's)
-PEND_LIMITED = """name = "pend_lim"
-title = "1-DOF pendulum with gearmotor"
-gravity = [0.0, -9.81]
-[units]
-length = "m"
-mass = "kg"
-inertia = "kg*m^2"
-angle = "rad"
-acceleration = "m/s^2"
-[ground]
-points = { O = [0.0, 0.0] }
-[[bodies]]
-name = "arm"
-mass = 0.5
-izz = 0.002
-cg = [0.2, 0.0]
-cg_from = "A"
-points = { A = [0.0, 0.0], B = [0.4, 0.0] }
-frame = ["A", "B"]
-[[joints]]
-name = "j1"
-type = "revolute"
-parent = "ground.O"
-child = "arm.A"
-actuated = true
-[joints.actuator]
-gear_ratio = 20
-rotor_inertia = 1e-5
-viscous_friction = 0.01
-coulomb_friction = 0.05
-coulomb_smoothing = 0.01
-torque_limit = 1.2
-motor_torque_limit = 0.5
-motor_speed_limit_rpm = 3000
-[task]
-point = "arm.B"
-"""
 
 
 def test_the_written_excitation_runs_within_its_torque_limit(tmp_path, capsys):
     """The torques were held at the optimiser's samples only: the run of the written table
     peaked at 1.2000169 N*m under a 1.2 N*m limit and warned. The table's own run now stays
     inside, the limit nearly reached (the excitation uses it)."""
-    robot = tmp_path / "pend_lim.toml"
-    robot.write_text(PEND_LIMITED)
+    robot = TEST_ROBOTS / "pend_lim.toml"
     study = tmp_path / "exc.toml"
     assert main(["--quiet", "excite", str(robot), "--duration", "2", "--harmonics", "4",
                  "--speed", "6", "--acceleration", "60", "--out", str(study)]) == 0

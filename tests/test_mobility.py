@@ -154,6 +154,8 @@ def test_singular_drawn_pose(tmp_path):
     (ROOT / "tests" / "robots" / "rpr_geared.toml", 3),
     (ROOT / "tests" / "robots" / "parallelogram.toml", 1),
     (ROOT / "tests" / "robots" / "carriage_arm.toml", 3),
+    (ROOT / "tests" / "robots" / "geared_cart_arm.toml", 3),
+    (ROOT / "tests" / "robots" / "pend_lim.toml", 1),
 ])
 def test_dof_of_every_robot_that_ships(robot, dof):
     m = mobility.of(description.load(robot))
@@ -167,8 +169,9 @@ def test_test_robots_are_all_counted():
     2 degrees of freedom have 1 motor: an underactuated tree, tests/test_sliders.py)."""
     assert sorted(p.name for p in (ROOT / "tests" / "robots").glob("*.toml")) == [
         "actuated_2dof.toml", "bent_arm.toml", "carriage_arm.toml", "cart_pole.toml",
-        "cart_pole_incline.toml",
-        "horizontal_2dof.toml", "parallelogram.toml", "pendulum.toml", "point_pendulum.toml",
+        "cart_pole_incline.toml", "geared_cart_arm.toml",
+        "horizontal_2dof.toml", "parallelogram.toml", "pend_lim.toml", "pendulum.toml",
+        "point_pendulum.toml",
         "rotated_slider.toml", "rpr_geared.toml"]
     m = mobility.of(description.load(ROOT / "tests" / "robots" / "cart_pole.toml"))
     assert m.dof == m.gruebler == 2 and len(m.actuated) == 1
