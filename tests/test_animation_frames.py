@@ -12,14 +12,13 @@ import pytest
 from conftest import ROOT
 
 import planar_sym as ps
-from planar_sym.model.description import load as load_description
 from planar_sym.outputs.animation import blitted_frames, scene_figure, write_animation
 
 DPI = 60
 
 
-def _full_renders(robot, desc, t, q, q_ref) -> list[np.ndarray]:
-    fig, update = scene_figure(robot, desc, t, q, "a title", q_reference=q_ref)
+def _full_renders(robot, t, q, ref) -> list[np.ndarray]:
+    fig, update = scene_figure(robot, t, q, "a title", reference=ref)
     out = []
     for k in range(len(t)):
         update(k)
@@ -33,7 +32,6 @@ def _full_renders(robot, desc, t, q, q_ref) -> list[np.ndarray]:
 @pytest.mark.parametrize("robot_name, reference", [("serial_2dof", True), ("five_bar_type1", False)])
 def test_blitted_frames_are_the_full_renders(robot_name, reference):
     robot = ps.load(robot_name)
-    desc = load_description(robot.description_file)
     t = np.linspace(0.0, 1.0, 6)
     q0 = np.asarray(robot.q_drawn)
     q = q0 + np.outer(np.sin(t), np.full(robot.n, 0.02))
@@ -43,10 +41,10 @@ def test_blitted_frames_are_the_full_renders(robot_name, reference):
         qa = q0[list(robot.actuated)] + np.outer(t, [0.1, -0.1])
         rate = np.tile([0.1, -0.1], (len(t), 1))
         q = from_actuated(robot, t, qa, rate, np.zeros_like(rate)).q
-    q_ref = q + 0.05 if reference else None
-    fig, update = scene_figure(robot, desc, t, q, "a title", q_reference=q_ref)
+    ref = (robot, q + 0.05) if reference else None
+    fig, update = scene_figure(robot, t, q, "a title", reference=ref)
     fast = [np.asarray(f) for f in blitted_frames(fig, update, len(t), DPI)]
-    full = _full_renders(robot, desc, t, q, q_ref)
+    full = _full_renders(robot, t, q, ref)
     assert len(fast) == len(full) == len(t)
     for k, (a, b) in enumerate(zip(fast, full)):
         assert a.shape == b.shape, k
@@ -60,10 +58,9 @@ def test_the_gif_holds_every_frame_at_its_size(tmp_path):
     from PIL import Image
 
     robot = ps.load("serial_2dof")
-    desc = load_description(robot.description_file)
     t = np.linspace(0.0, 1.0, 7)
     q = np.asarray(robot.q_drawn) + np.outer(t, [0.3, -0.2])
-    path = write_animation(robot, desc, t, q, tmp_path / "a.gif", "a title", fps=10, dpi=DPI)
+    path = write_animation(robot, t, q, tmp_path / "a.gif", "a title", fps=10, dpi=DPI)
     with Image.open(path) as im:
         assert im.n_frames == 7 and im.size == (int(5.6 * DPI), int(4.6 * DPI))
         assert im.info["duration"] == 100 and im.info["loop"] == 0

@@ -154,7 +154,7 @@ def test_a_robot_is_drawn_in_the_unit_it_is_typed_in(example, unit):
     robot = load(str(path))
     assert robot.length_unit == unit
     q = np.tile(robot.q_drawn, (3, 1))
-    moving, _ = scene_figure(robot, desc, np.array([0.0, 0.1, 0.2]), q, "title")
+    moving, _ = scene_figure(robot, np.array([0.0, 0.1, 0.2]), q, "title")
     assert moving.axes[0].get_xlabel() == f"x ({unit})"
     if unit == "cm":  # a span of about 1 m: axis limits of about a hundred, not a thousand
         assert 50 < np.ptp(ax.get_xlim()) < 300

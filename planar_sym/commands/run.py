@@ -95,24 +95,18 @@ def animate_study(st, path: Path, frames: int = 60, fps: float = 20.0, dpi: int 
                   figsize: tuple[float, float] = (5.6, 4.6), quiet: bool = False) -> Path:
     """The study's mechanism moving, written to ``path`` (.gif or .mp4); a progress line
     counts the frames on a terminal unless ``quiet``."""
-    from ..model.description import load as load_description
     from ..outputs.animation import check_frames, write_animation, writer_for
     from ..study.run import motion_and_reference
 
     writer_for(Path(path), fps)  # a bad request fails before any work
     check_frames(frames, dpi)
-    robot, t, q, q_ref = motion_and_reference(st, frames)
-    desc_file = robot.description_file
-    if desc_file is None:
-        raise InputError(f"{robot.name}: no description at hand to draw it (its generated "
-                         "folder has no description.toml)")
+    robot, t, q, reference = motion_and_reference(st, frames)
     from ..progress import Meter
 
     meter = Meter(len(t), f"{st.name}: drawing {Path(path).name}", quiet=quiet)
     try:
-        return write_animation(robot, load_description(desc_file), t, q, path,
-                               f"{st.name}: {st.title}", fps=fps, dpi=dpi, figsize=figsize,
-                               q_reference=q_ref, progress=meter)
+        return write_animation(robot, t, q, path, f"{st.name}: {st.title}", fps=fps, dpi=dpi,
+                               figsize=figsize, reference=reference, progress=meter)
     finally:
         meter.close()
 

@@ -10,7 +10,6 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import atomic_files
-from ..model.description import Description
 from ..model.robot import Robot
 from .resolution import check_dpi
 
@@ -59,18 +58,16 @@ def check_frames(frames: int, dpi: int, figsize: tuple[float, float] = FIGSIZE) 
                          "dpi")
 
 
-def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, path: Path,
-                    title: str, fps: float = 20.0, dpi: int = 80,
-                    figsize: tuple[float, float] = FIGSIZE,
-                    q_reference: np.ndarray | None = None, progress=None) -> Path:
+def write_animation(robot: Robot, t: np.ndarray, q: np.ndarray, path: Path, title: str,
+                    fps: float = 20.0, dpi: int = 80, figsize: tuple[float, float] = FIGSIZE,
+                    reference: tuple[Robot, np.ndarray] | None = None, progress=None) -> Path:
     """Animate ``robot`` through the joint motion ``q`` into ``path``, whole or not at all.
 
     Parameters
     ----------
     robot : Robot
-        Gives the body frames of each configuration (``Robot.frames``).
-    desc : Description
-        Gives the bodies' points and centres of gravity in their frames.
+        Gives the body frames of each configuration (``Robot.frames``) and, with its
+        description (``model.described``), the bodies' points and centres of gravity.
     t : ndarray, shape (frames,)
         Time of each frame (s).
     q : ndarray, shape (frames, n)
@@ -83,8 +80,10 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
         Playback frames per second.
     dpi : int
         Pixels per inch; the frame is ``figsize * dpi`` pixels.
-    q_reference : ndarray, shape (frames, n), optional
-        A second motion drawn faint behind the first (a controller's reference).
+    reference : (Robot, ndarray of shape (frames, n)), optional
+        A second motion drawn faint behind the first, with its own robot: a controller's
+        reference, drawn as its model (the controller's parameters) while ``robot`` is the
+        plant that moved.
     progress : callable, optional
         Called with the number of frames drawn so far (``planar_sym.progress.Meter``).
     """
@@ -93,7 +92,7 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
     path = Path(path)
     writer = writer_for(path, fps)  # before any work: a bad request costs nothing
     check_frames(len(t), dpi, figsize)
-    fig, update = scene_figure(robot, desc, t, q, title, figsize, q_reference)
+    fig, update = scene_figure(robot, t, q, title, figsize, reference)
     with atomic_files([path]) as (tmp,):
         if path.suffix.lower() == ".gif":
             _write_gif(tmp, blitted_frames(fig, update, len(t), dpi, progress), fps)
@@ -104,21 +103,27 @@ def write_animation(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarra
     return path
 
 
-def scene_figure(robot: Robot, desc: Description, t: np.ndarray, q: np.ndarray, title: str,
-                 figsize: tuple[float, float] = FIGSIZE, q_reference: np.ndarray | None = None):
-    """(figure, update): the mechanism at ``q`` (and ``q_reference`` faint behind it), and
-    ``update(k)`` that moves it to frame ``k`` and returns the artists it moved."""
+def scene_figure(robot: Robot, t: np.ndarray, q: np.ndarray, title: str,
+                 figsize: tuple[float, float] = FIGSIZE,
+                 reference: tuple[Robot, np.ndarray] | None = None):
+    """(figure, update): the mechanism at ``q`` (and ``reference``, a robot and its motion,
+    faint behind it), and ``update(k)`` that moves it to frame ``k`` and returns the artists
+    it moved. Each robot is drawn with its own parameters (``model.described``)."""
+    from ..model.described import described
     from .drawing import Scene, geometry
     from .plots import new_figure, tight
 
+    desc = described(robot)
     geo = geometry(desc, robot.body_names, robot.frames(q))
     fig = new_figure(figsize)
     ax = fig.add_subplot()
     ghost = None
-    if q_reference is not None:
-        geo_ref = geometry(desc, robot.body_names, robot.frames(q_reference))
+    if reference is not None:
+        model, q_reference = reference
+        desc_ref = described(model)
+        geo_ref = geometry(desc_ref, model.body_names, model.frames(q_reference))
         before = set(ax.get_children())
-        ghost = Scene(ax, desc, geo_ref, labels=False)
+        ghost = Scene(ax, desc_ref, geo_ref, labels=False)
         for artist in set(ax.get_children()) - before:
             artist.set_alpha(0.25)
         ax.plot([], [], color="grey", alpha=0.4, lw=4, label="reference")

@@ -307,16 +307,11 @@ def drawing_figure(robot_name: str, q=None):
         coordinates, q = desc.coordinates, np.array(desc.q_drawn())
         which = "drawn configuration"
     else:
+        from ..model.described import described
         from ..model.locate import load
 
         robot = load(robot_name)  # a built-in name, a description file or a generated folder
-        if robot.description_file is None:
-            from ..errors import InputError
-
-            raise InputError(f"{robot_name}: no description at hand to draw it (the generated "
-                             "folder has no description.toml); draw the description file "
-                             "instead")
-        desc = load_description(robot.description_file)
+        desc = described(robot)
         which = "drawn configuration" if q is None else "configuration"
         q = robot.q_drawn if q is None else np.asarray(q, dtype=float)
         names, frames, coordinates = robot.body_names, robot.frames(q[None, :]), robot.coordinates

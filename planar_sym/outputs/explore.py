@@ -113,16 +113,13 @@ class Explorer:
     def __init__(self, robot: Robot, task: bool = False, q_start=None):
         import ipywidgets as w
 
-        from ..model.description import load as load_description
+        from ..model.described import described
 
-        if robot.description_file is None:
-            raise InputError(f"{robot.name}: no description at hand to draw it (the generated "
-                             "folder has no description.toml)")
         if task and not robot.task_names:
             raise InputError(f"{robot.name} has no task point (its description has no [task]):"
                              " explore its actuated joints instead (task=False)")
         self.robot, self.task = robot, task
-        self._desc = load_description(robot.description_file)
+        self._desc = described(robot)
         self.state = ExploreState(robot, q_start)
         self._limits = None
         q0 = self.state.q

@@ -17,12 +17,11 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import InputError, LibraryError
+from ..model.described import described
 from ..model.description import GROUND, Body, Description, Joint
-from ..model.description import load as load_description
 from ..model.description.types import snap_offset
 
 #: actuator parameters that change the dynamics but have no exact place in MJCF or URDF
@@ -153,26 +152,8 @@ def from_robot(robot, drives: bool = False, left_out: str = "this file has no pl
     LibraryError
         The description no longer matches the generated code (other parameters or joints).
     """
-    path = robot.description_file
-    if path is None:
-        raise InputError(f"{robot.name}: no description at hand to export it (its generated "
-                         f"folder {robot.library.folder} has no description.toml): export it "
-                         "from its description file ROBOT.toml")
-    desc = load_description(path)
-    names = [p.name for p in desc.parameters()]
-    if names != [p.name for p in robot.parameter_list] or desc.coordinates != robot.coordinates:
-        raise LibraryError(f"{robot.name}: its description {path} no longer matches its "
-                           f"generated code in {robot.library.folder} (other parameters or "
-                           "joints): re-derive it (`make derive`, or `planar-sym derive` for "
-                           "your own robot)")
+    desc = described(robot, "export it")
     v = robot.parameters
-    bodies = {GROUND: _with_values(desc.bodies[GROUND], v)}
-    for name, body in desc.bodies.items():
-        if name != GROUND:
-            bodies[name] = replace(
-                _with_values(body, v), mass_kg=v[f"m_{name}"],
-                izz_kg_m2=0.0 if body.point_mass else v[f"izz_{name}"],
-                cg_m=(v.get(f"cgx_{name}", body.cg_m[0]), v.get(f"cgy_{name}", body.cg_m[1])))
     direction = robot.library.manifest.get("gravity_direction")
     if direction is None:  # manifests from before it: the description's direction
         gx, gy = desc.gravity_m_s2
@@ -195,12 +176,12 @@ def from_robot(robot, drives: bool = False, left_out: str = "this file has no pl
                           f"({left_out}): the file holds the rigid bodies only", RuntimeWarning,
                           stacklevel=3)
     return RigidModel(
-        robot.name, robot.title, bodies, tuple(desc.tree_joints), tuple(desc.loop_joints),
+        robot.name, robot.title, dict(desc.bodies), tuple(desc.tree_joints), tuple(desc.loop_joints),
         {j.name: v.get(f"s0_{j.name}", 0.0) for j in desc.tree_joints if j.type == "prismatic"},
         (g * direction[0], g * direction[1]), robot.coordinates,
         tuple(robot.coordinates[i] for i in robot.actuated),
         robot.library.manifest.get("input_hash", ""),
-        Path(robot.library.manifest.get("input") or path).name, changed, skipped,
+        Path(robot.library.manifest.get("input") or desc.path).name, changed, skipped,
         train.drives if drives else ())
 
 
@@ -233,13 +214,6 @@ def _turns(body: str, joints: dict[str, Joint]) -> bool:
             return True
         body = j.parent
     return False
-
-
-def _with_values(body: Body, v: dict[str, float]) -> Body:
-    """``body`` with its point coordinates taken from the parameters where they are ones."""
-    pts = {p: (v.get(f"px_{body.name}_{p}", x), v.get(f"py_{body.name}_{p}", y))
-           for p, (x, y) in body.points_m.items()}
-    return replace(body, points_m=pts)
 
 
 def header(model: RigidModel, fmt: str, extra: list[str]) -> str:

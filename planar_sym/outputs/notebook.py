@@ -83,14 +83,13 @@ def robot_drawing(robot: Robot):
     matplotlib.figure.Figure or None
         8 x 6 in (mm axes); None when no description is at hand to draw it.
     """
-    from ..model.description import load as load_description
+    from ..model.described import described
     from .drawing import Scene, geometry
     from .plots import new_figure, tight
 
-    desc_file = robot.description_file
-    if desc_file is None:
+    if robot.description_file is None:
         return None
-    desc = load_description(desc_file)
+    desc = described(robot)
     geo = geometry(desc, robot.body_names, robot.frames(robot.q_drawn[None, :]))
     fig = new_figure((8.0, 6.0))
     ax = fig.add_subplot()
@@ -243,7 +242,6 @@ def simulation_gif(sim: Simulation, robot: Robot, frames: int = FRAMES, fps: flo
     dpi : int
         Pixels per inch of the 4.8 x 4 in frame.
     """
-    from ..model.description import load as load_description
     from .animation import write_animation
 
     if robot.description_file is None or len(sim.t_s) < 2:
@@ -252,7 +250,7 @@ def simulation_gif(sim: Simulation, robot: Robot, frames: int = FRAMES, fps: flo
                      .round().astype(int))
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "simulation.gif"
-        write_animation(robot, load_description(robot.description_file), sim.t_s[pick],
+        write_animation(robot, sim.t_s[pick],
                         sim.q[pick], path, f"{robot.name}: forward dynamics ({sim.method})",
                         fps=fps, dpi=dpi, figsize=(4.8, 4.0))
         return path.read_bytes()

@@ -103,12 +103,17 @@ def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
     if st.kind in ("control", "optimal"):
         from .control_run import run_control
 
-        # the plant: the same description with the values [control.plant] sets (checked SI)
-        plant = (with_overrides(robot, st.control.plant, f"{st.path or st.name}: control.plant")
-                 if st.control.plant else None)
-        return run_control(st, robot, samples, plant)
+        return run_control(st, robot, samples, plant_of(st, robot))
     jt, x, timing = timed_motion(st, robot, samples)
     return _inverse(st, robot, jt, x, timing)
+
+
+def plant_of(st: specs.Study, robot: Robot) -> Robot | None:
+    """The machine a control study's controller moves: ``robot`` (the controller's model) with
+    the values ``[control.plant]`` sets (checked SI), or None where it sets none."""
+    if st.control is None or not st.control.plant:
+        return None
+    return with_overrides(robot, st.control.plant, f"{st.path or st.name}: control.plant")
 
 
 def _optimal(st: specs.Study, robot: Robot, samples: int | None) -> Result:
@@ -263,6 +268,7 @@ def motion(study: str | Path | specs.Study, frames: int) -> tuple[Robot, np.ndar
     Returns
     -------
     robot : Robot
+        The machine that moved: a control study's plant (its ``[control.plant]`` values).
     t : ndarray, shape (frames,)
         Time (s).
     q : ndarray, shape (frames, n)
@@ -274,10 +280,11 @@ def motion(study: str | Path | specs.Study, frames: int) -> tuple[Robot, np.ndar
 
 
 def motion_and_reference(study: str | Path | specs.Study, frames: int
-                         ) -> tuple[Robot, np.ndarray, np.ndarray, np.ndarray | None]:
-    """As ``motion``, and for a control study the reference of every coordinate (frames, n),
-    else None: robot, t (frames,) in s, q (frames, n) in rad (m at a slider), reference in the
-    same units."""
+                         ) -> tuple[Robot, np.ndarray, np.ndarray,
+                                    tuple[Robot, np.ndarray] | None]:
+    """As ``motion``, and for a control study its reference: the controller's model and every
+    coordinate's reference (frames, n), else None. robot (the plant that moved), t (frames,)
+    in s, q (frames, n) in rad (m at a slider), the reference in the same units."""
     st = load_study(study)
     if not isinstance(frames, (int, np.integer)) or frames < 2:
         raise InputError(f"the number of frames must be an integer >= 2 (got {frames})")
@@ -286,7 +293,8 @@ def motion_and_reference(study: str | Path | specs.Study, frames: int
         result = (_forward(st, robot, frames) if st.kind == "forward"
                   else run(st, samples=frames))
         q = np.column_stack([result.get("q", index=i).values for i in range(robot.n)])
-        return robot, result.get("t").values, q, result.reference
+        ref = None if result.reference is None else (robot, result.reference)
+        return plant_of(st, robot) or robot, result.get("t").values, q, ref
     if st.kind == "optimal":
         from .optimal_run import plan_motion
 
