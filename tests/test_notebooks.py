@@ -321,3 +321,24 @@ def test_cart_pole_notebook(kernel_env):
     assert float(end) < 1e-5 and 0.2 < float(peak_run) < 0.25
     (fallen,) = OPEN.findall(text)
     assert abs(float(fallen)) > 90.0
+
+
+def test_a_driven_rubbing_run_shows_its_energy_change_and_its_balance():
+    """A trial: a driven run with friction showed "energy drift 0.91" (the work the motors put
+    in, less friction) beside nothing that said the balance closed. The row now says energy
+    change there, and the balance E - E(0) - (W - F) is its own row, as small as the
+    integrator's tolerance; a free frictionless run keeps "energy drift"."""
+    geared = ps.load(ROOT / "examples" / "serial_2dof_geared.toml")
+    assert geared.has_friction
+    sim = ps.simulate(geared, [-1.0, 0.5], [0.0, 0.0], (0.0, 0.4), torque=[0.4, 0.1],
+                      t_eval=np.linspace(0, 0.4, 21))
+    html = notebook.simulation_html(sim, picture=False)
+    assert sim.energy_drift > 0.05 and sim.balance_residual < 1e-8
+    assert (f"<td>energy change max|E - E(0)| / scale (work and friction change E)</td>"
+            f"<td>{sim.energy_drift:.3g}</td>") in html
+    assert (f"<td>energy balance max|E - E(0) - (W - F)| / scale</td>"
+            f"<td>{sim.balance_residual:.3g}</td>") in html
+    assert "energy drift" not in html
+    free = ps.simulate(ps.load("serial_2dof"), [-1.0, 0.5], [0.0, 0.0], (0.0, 0.4))
+    assert f"<td>energy drift max|E - E(0)| / scale</td><td>{free.energy_drift:.3g}</td>" in (
+        notebook.simulation_html(free, picture=False))
