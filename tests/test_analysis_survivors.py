@@ -298,7 +298,8 @@ def test_run_figures_are_the_runs_columns_reduced():
         want = {}
         for k in (1, 3):
             want[f"peak_tau{k}_n_m"] = np.max(np.abs(c[f"tau{k}_n_m"]))
-            want[f"rms_tau{k}_n_m"] = np.sqrt(np.mean(c[f"tau{k}_n_m"] ** 2))
+            t = c["t_s"]  # the RMS over time, by the trapezoidal rule
+            want[f"rms_tau{k}_n_m"] = np.sqrt(np.trapezoid(c[f"tau{k}_n_m"] ** 2, t) / t[-1])
         if "track" in study:
             want["max_abs_e_task_mm"] = np.max(np.abs(c["e_task_mm"]))
             for k in (1, 3):
@@ -339,7 +340,7 @@ def test_atlas_figures_carry_their_units():
 
 # -- sweep_motor.py ----------------------------------------------------------------------------
 def test_trapezoid_weights_are_the_trapezoidal_rule():
-    from planar_sym.analysis.sweep_motor import _trapezoid_weights
+    from planar_sym.dynamics.sizing import rms_weights as _trapezoid_weights
 
     t = np.array([0.0, 0.1, 0.35, 0.4, 1.0])
     v = np.array([1.0, -2.0, 0.5, 3.0, -1.0])

@@ -28,7 +28,8 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def per_design(study: str, result) -> dict[str, np.ndarray]:
     """The independent route: a new Robot per design (with_parameters, checked), the study's
-    whole run, its torque and cut-force columns reduced here in numpy."""
+    whole run, its torque and cut-force columns reduced here in numpy (the RMS over time by
+    the trapezoidal rule)."""
     st = load_study(study)
     base = robot_of(st)
     out: dict[str, list] = {}
@@ -38,7 +39,9 @@ def per_design(study: str, result) -> dict[str, np.ndarray]:
         for name, v in res.columns.items():
             if name.startswith("tau"):
                 out.setdefault(f"peak_{name}", []).append(np.max(np.abs(v)))
-                out.setdefault(f"rms_{name}", []).append(np.sqrt(np.mean(v**2)))
+                t = res.columns["t_s"]
+                out.setdefault(f"rms_{name}", []).append(
+                    np.sqrt(np.trapezoid(v**2, t) / (t[-1] - t[0])))
             if name.startswith(("fx_", "fy_")):
                 out.setdefault(f"peak_{name}", []).append(np.max(np.abs(v)))
     return {k: np.array(v) for k, v in out.items()}

@@ -104,7 +104,8 @@ def control_figures(res) -> dict[str, float]:
     for k in (1, 2):
         out[f"max_abs_e{k}_rad"] = np.max(np.abs(c[f"e{k}_rad"]))
         out[f"peak_tau{k}_n_m"] = np.max(np.abs(c[f"tau{k}_n_m"]))
-        out[f"rms_tau{k}_n_m"] = np.sqrt(np.mean(c[f"tau{k}_n_m"] ** 2))
+        t = c["t_s"]  # the RMS over time, by the trapezoidal rule
+        out[f"rms_tau{k}_n_m"] = np.sqrt(np.trapezoid(c[f"tau{k}_n_m"] ** 2, t) / t[-1])
     return out
 
 

@@ -107,7 +107,11 @@ def sweep(study, vary: dict, *, sample: str = "grid", count: int | None = None, 
         simulations and control the same torque figures where there are torques, the largest
         tracking error and the energy figures. With actuator models (``[joints.actuator]``),
         inverse-dynamics and control sweeps add per actuator ``peak_motor_tau<k>_n_m``,
-        ``rms_motor_tau<k>_n_m``, ``peak_motor_speed<k>_rpm`` and ``peak_power<k>_w``.
+        ``rms_motor_tau<k>_n_m``, ``peak_motor_speed<k>_rpm`` and ``peak_power<k>_w``. RMS
+        figures are time averages (the trapezoidal rule, as ``dynamics.sizing``). A design
+        that passes a limit of its actuators (joint torque, motor torque, motor speed; a
+        controlled run's actuator and joint-limit events) is named in ``over_limits``, its
+        figures kept, and a warning says how many.
     """
     from ..study.run import load_study, robot_of
 
@@ -183,6 +187,7 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
             columns[f.name], info[f.name] = plant_P[:, parameter_index(robot, name)], f
     varied = tuple(columns)
     failed: dict[int, str] = {}
+    over: dict[int, str] = {}
     figs = {}
     lost = 0
     for job, out in zip(jobs, outs):
@@ -195,6 +200,7 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
         for name, v in out.figures.items():
             figs.setdefault(name, np.full(D, np.nan))[sl] = v
         failed.update(out.failed)
+        over.update(out.over)
     for k in failed:  # a failed design has no figures, whatever part of it was computed
         for v in figs.values():
             v[k] = np.nan
@@ -203,6 +209,13 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
     note = f"{D} designs ({space.sample}), {route}"
     if plant_P is not None:
         note += "; " + on_note(st, robot, space, plant_P, on)
+    over = {k: why for k, why in sorted(over.items()) if k not in failed}
+    if over:
+        note += f"; {len(over)} over an actuator limit"
+        first = next(iter(over))
+        warnings.warn(f"{len(over)} of {D} designs pass an actuator limit (first: design "
+                      f"{first}, {over[first]}): see the table's limits column "
+                      "(SweepResult.over_limits)", RuntimeWarning, stacklevel=3)
     if failed:
         note += f"; {len(failed)} failed"
     if lost:
@@ -211,4 +224,4 @@ def _table(st: specs.Study, robot: Robot, space: DesignSpace, plant_P: np.ndarra
                       f"{failed[first]}); the other designs' figures are kept", RuntimeWarning,
                       stacklevel=3)
     return SweepResult(st.name, columns, varied, space.names, dict(sorted(failed.items())),
-                       route, note, on, {**info, **kinds})
+                       route, note, on, {**info, **kinds}, over)

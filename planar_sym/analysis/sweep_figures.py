@@ -8,17 +8,20 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics.series import coordinate_unit
+from ..dynamics.sizing import rms
 from ..model.loops import COND_LIMIT
 from ..model.robot import Robot
 from ..study import spec as specs
 from .figures import COND, ENERGY_CHANGE, Figure
+from .sweep_limits import run_over_limits
 from .sweep_motor import has_drives, motor_figure_keys, peak_torque
 
 
 def torque_figures(robot: Robot, stats: np.ndarray, closed: bool) -> dict[Figure, np.ndarray]:
     """Peak and RMS per actuator from the C loop's (D, components, 3) min/max/mean-square
-    (each figure (D,), N*m or N at a slider); for a closed chain also the largest cut-joint
-    force (N) and the worst conditioning."""
+    (each figure (D,), N*m or N at a slider; the mean square over time, weighted by
+    ``sizing.rms_weights``); for a closed chain also the largest cut-joint force (N) and the
+    worst conditioning."""
     figs = {}
     na = len(robot.actuated)
     for k, i in enumerate(robot.actuated):
@@ -52,18 +55,24 @@ _RUN_STATISTIC = {"fx": "peak", "fy": "peak", "e": "max_abs", "e_task": "max_abs
 
 
 def run_figures(st: specs.Study, robot: Robot) -> dict[Figure, float]:
-    """One run's figures: peak and RMS of every torque (N*m, N at a slider); the largest
-    cut-joint forces (N); for a controlled run the largest tracking error of every coordinate
-    (rad or m) and of the task point (mm), the work done and the friction loss (J); the energy
-    change (J); with actuator models, the motor side of the run's sizing (``Result.sizing``:
-    the plant's, under control)."""
+    """One run's figures: peak and RMS of every torque (N*m, N at a slider; the RMS over time,
+    ``sizing.rms``); the largest cut-joint forces (N); for a controlled run the largest tracking
+    error of every coordinate (rad or m) and of the task point (mm), the work done and the
+    friction loss (J); the energy change (J); with actuator models, the motor side of the run's
+    sizing (``Result.sizing``: the plant's, under control)."""
+    return run_figures_and_limits(st, robot)[0]
+
+
+def run_figures_and_limits(st: specs.Study, robot: Robot) -> tuple[dict[Figure, float], str]:
+    """``run_figures`` and the limits the run passed (``sweep_limits.run_over_limits``)."""
     from ..study.run import run_on
 
     res = run_on(st, robot)
     figs = {}
+    t = res.get("t").values
     for s in res.series("tau"):
         figs[Figure.of_series("peak", s)] = float(np.max(np.abs(s.values)))
-        figs[Figure.of_series("rms", s)] = float(np.sqrt(np.mean(s.values**2)))
+        figs[Figure.of_series("rms", s)] = rms(t, s.values)
     for s in res.series():
         statistic = _RUN_STATISTIC.get(s.quantity)
         v = s.values
@@ -79,7 +88,7 @@ def run_figures(st: specs.Study, robot: Robot) -> dict[Figure, float]:
             figs[rms_t] = a.rms_motor_torque_n_m
             figs[peak_w] = a.peak_motor_speed_rpm
             figs[peak_p] = a.peak_power_w
-    return figs
+    return figs, run_over_limits(res)
 
 
 #: the atlas summary's figures that have a unit: (stem, unit)

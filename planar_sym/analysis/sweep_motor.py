@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..dynamics.series import coordinate_unit
-from ..dynamics.sizing import RPM
+from ..dynamics.sizing import RPM, rms_weights
 from ..model.robot import Robot
 from .figures import Figure
 
@@ -48,19 +48,6 @@ def peak_torque(robot: Robot, i: int) -> Figure:
     return Figure.of("peak", "tau", coordinate_unit("tau", robot.coordinate_units[i]), i)
 
 
-def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
-    """w with w @ v**2 = the mean square of v(t) by the trapezoidal rule over t (``sizing``'s
-    RMS); the plain mean over one sample or no time span."""
-    span = t[-1] - t[0] if len(t) > 1 else 0.0
-    if span <= 0:
-        return np.full(len(t), 1.0 / len(t))
-    dt = np.diff(t)
-    w = np.zeros(len(t))
-    w[:-1] += dt / 2
-    w[1:] += dt / 2
-    return w / span
-
-
 def motor_figures(robot: Robot, fn, P: np.ndarray, motion: tuple, t: np.ndarray,
                    joint: dict[Figure, np.ndarray]) -> dict[Figure, np.ndarray]:
     """Motor-side figures of the designs ``P`` along ``motion`` (q, qd, qdd: (N, n) shared or
@@ -72,7 +59,7 @@ def motor_figures(robot: Robot, fn, P: np.ndarray, motion: tuple, t: np.ndarray,
     per_design = q.ndim == 3
     D, act = len(P), list(robot.actuated)
     ratios = gear_ratios(robot, P)
-    w = _trapezoid_weights(t)
+    w = rms_weights(t)
     ms, power = np.empty((D, len(act))), np.empty((D, len(act)))
     for s in range(0, D, MOTOR_CHUNK):
         sl = slice(s, s + MOTOR_CHUNK)

@@ -26,6 +26,8 @@ class SweepResult:
     (``plant_m_link2_kg``), and ``on`` says which of the two the designs changed ("both",
     "model" or "plant"; "both" for any other study, which has one robot). ``info`` types every
     column (``figures.Figure``: its unit, and the statistic and quantity it is of).
+    ``over_limits`` maps a design's index to the actuator limits it passes (its figures kept;
+    the CSV's ``limits`` column).
     """
 
     study: str
@@ -37,6 +39,7 @@ class SweepResult:
     note: str = ""
     on: str = "both"
     info: dict = field(default_factory=dict)
+    over_limits: dict[int, str] = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(next(iter(self.columns.values())))
@@ -47,13 +50,14 @@ class SweepResult:
         return tuple(k for k in self.columns if k not in self.varied)
 
     def csv_text(self) -> str:
-        """The table as CSV; a failed design's figures are empty and ``error`` says why."""
-        names = list(self.columns) + (["error"] if self.failed else [])
-        lines = [",".join(names)]
+        """The table as CSV; a failed design's figures are empty and ``error`` says why; a
+        design over an actuator limit says which in ``limits``."""
+        texts = [(name, d) for name, d in (("limits", self.over_limits), ("error", self.failed))
+                 if d]
+        lines = [",".join([*self.columns, *(name for name, _ in texts)])]
         for k in range(len(self)):
             row = ["" if not np.isfinite(v[k]) else f"{v[k]:.12g}" for v in self.columns.values()]
-            if self.failed:
-                row.append('"' + self.failed.get(k, "").replace('"', "'") + '"')
+            row += ['"' + d.get(k, "").replace('"', "'") + '"' for _, d in texts]
             lines.append(",".join(row))
         return "\n".join(lines) + "\n"
 

@@ -10,16 +10,18 @@ exception.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..dynamics.sizing import rms_weights
 from ..errors import PlanarSymError
 from ..model.robot import Robot
 from ..study import spec as specs
 from .designs import DesignSpace
-from .sweep_figures import atlas_figures, run_figures, singular_designs, torque_figures
-from .sweep_motor import has_drives, motor_figures
+from .sweep_figures import atlas_figures, run_figures_and_limits, singular_designs, torque_figures
+from .sweep_limits import over_limits
+from .sweep_motor import gear_ratios, has_drives, motor_figures, peak_torque
 from .sweep_plant import plant_overrides
 
 
@@ -80,6 +82,7 @@ class _Job:
 class _Out:
     figures: dict  # Figure -> (designs,) values
     failed: dict[int, str]
+    over: dict[int, str] = field(default_factory=dict)  # design -> the limits it passes
 
 
 def _run_job(job: _Job) -> _Out:
@@ -102,11 +105,21 @@ def _shared(job: _Job) -> _Out:
     q, qd, qdd, t = job.shared
     closed = robot.is_closed_chain
     fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
-    stats = fn.designs(job.P, q, qd, qdd, reduce=True)
+    stats = fn.designs(job.P, q, qd, qdd, reduce=True, weights=rms_weights(t))
     figs = torque_figures(robot, stats, closed)
     if has_drives(robot):
         figs.update(motor_figures(robot, fn, job.P, (q, qd, qdd), t, figs))
-    return _Out(figs, singular_designs(figs, job.start))
+    return _Out(figs, singular_designs(figs, job.start),
+                _limits(robot, job.P, figs, qd, job.start))
+
+
+def _limits(robot: Robot, P: np.ndarray, figs: dict, qd: np.ndarray, start: int
+            ) -> dict[int, str]:
+    """The designs (numbered from ``start``) whose peaks pass an actuator limit."""
+    act = list(robot.actuated)
+    peak = np.column_stack([figs[peak_torque(robot, i)] for i in act])
+    found = over_limits(robot, gear_ratios(robot, P), peak, np.abs(qd[..., act]).max(axis=-2))
+    return {start + k: why for k, why in found.items()}
 
 
 def _motion_per_design(job: _Job, robot: Robot) -> _Out:
@@ -131,7 +144,8 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
         q, qd, qdd = (np.ascontiguousarray(np.stack([motions[k][j] for k in ok]))
                       for j in range(3))
         fn = robot._closed_inverse_dynamics if closed else robot.tree_inverse_dynamics
-        sub = torque_figures(robot, fn.designs(job.P[ok], q, qd, qdd, reduce=True), closed)
+        sub = torque_figures(robot, fn.designs(job.P[ok], q, qd, qdd, reduce=True,
+                                               weights=rms_weights(t)), closed)
         if has_drives(robot):
             sub.update(motor_figures(robot, fn, job.P[ok], (q, qd, qdd), t, sub))
         for name, v in sub.items():
@@ -139,14 +153,16 @@ def _motion_per_design(job: _Job, robot: Robot) -> _Out:
             figs[name][ok] = v
         for k, why in singular_designs(sub, 0).items():
             failed[job.start + ok[k]] = why
-    return _Out(figs, failed)
+        over = {job.start + ok[k]: why
+                for k, why in _limits(robot, job.P[ok], sub, qd, 0).items()}
+    return _Out(figs, failed, over if ok else {})
 
 
 def _per_design(job: _Job, robot: Robot) -> _Out:
     """Simulations, controlled runs, atlases (or the exact path): the whole run per design."""
     from dataclasses import replace
 
-    rows, failed = [], {}
+    rows, failed, over = [], {}, {}
     for k, p in enumerate(job.P):
         design = _design(robot, p)
         st = job.study
@@ -154,11 +170,16 @@ def _per_design(job: _Job, robot: Robot) -> _Out:
             st = replace(st, control=replace(st.control, plant=plant_overrides(
                 design, p, job.plant[k])))
         try:
-            rows.append(atlas_figures(design, job.atlas) if job.route == "atlas"
-                        else run_figures(st, design))
+            if job.route == "atlas":
+                rows.append(atlas_figures(design, job.atlas))
+            else:
+                figs, passed = run_figures_and_limits(st, design)
+                rows.append(figs)
+                if passed:
+                    over[job.start + k] = passed
         except PlanarSymError as exc:
             failed[job.start + k] = str(exc)
             rows.append(None)
     names = list(dict.fromkeys(n for r in rows if r for n in r))
     figs = {n: np.array([np.nan if r is None else r.get(n, np.nan) for r in rows]) for n in names}
-    return _Out(figs, failed)
+    return _Out(figs, failed, over)

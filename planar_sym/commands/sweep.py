@@ -127,6 +127,12 @@ def run(args) -> int:
                 print(f"  {name}: {v.min():.6g} to {v.max():.6g}")
         for path in paths:
             print(f"  wrote {path}")
+    # the sweep's warning named the first: the next four here, the rest in the CSV
+    for k, why in list(result.over_limits.items())[1:5]:
+        print(f"design {k}: over a limit: {why}", file=sys.stderr)
+    if len(result.over_limits) > 5:
+        print(f"... and {len(result.over_limits) - 5} more designs over a limit (see the CSV's "
+              "limits column)", file=sys.stderr)
     for k, why in list(result.failed.items())[:5]:
         print(f"design {k}: {why}", file=sys.stderr)
     if len(result.failed) > 5:

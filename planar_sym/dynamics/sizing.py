@@ -86,11 +86,26 @@ class ActuatorSizing:
 ON_LIMIT = 1e-6
 
 
-def _rms(t: np.ndarray, v: np.ndarray) -> float:
-    span = t[-1] - t[0]
-    if len(t) < 2 or span <= 0:
-        return float(np.sqrt(np.mean(v * v)))
-    return float(np.sqrt(_trapezoid(v * v, t) / span))
+def rms_weights(t: np.ndarray) -> np.ndarray:
+    """w (N,) with w @ v**2 the mean square of v(t) over the samples' times t (s) by the
+    trapezoidal rule: the one RMS of every figure (a run's sizing, a sweep's columns; a trial
+    found a sweep's plain mean 1e-3 off it on a fast move). The plain mean over one sample or
+    no time span."""
+    t = np.asarray(t, dtype=float)
+    span = t[-1] - t[0] if len(t) > 1 else 0.0
+    if span <= 0:
+        return np.full(len(t), 1.0 / len(t))
+    dt = np.diff(t)
+    w = np.zeros(len(t))
+    w[:-1] += dt / 2
+    w[1:] += dt / 2
+    return w / span
+
+
+def rms(t: np.ndarray, v: np.ndarray) -> float:
+    """The RMS of v(t) (``rms_weights``): t (N,) in s, v (N,) in any unit (N*m, N, rad); the
+    result in v's unit."""
+    return float(np.sqrt(rms_weights(t) @ (np.asarray(v, dtype=float) ** 2)))
 
 
 def _first_over(t: np.ndarray, v: np.ndarray, limit: float | None, what: str,
@@ -138,11 +153,11 @@ def size(robot, t_s: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> tuple[Actua
                                   f"{act['joint']}: motor torque", "N*m")
                     + _first_over(t, ratio * w, act["motor_speed_limit_rad_s"],
                                   f"{act['joint']}: motor speed", "rpm", RPM))
-        peak, rms, speed = float(np.max(np.abs(tq))), _rms(t, tq), float(np.max(np.abs(w)))
+        peak, root, speed = float(np.max(np.abs(tq))), rms(t, tq), float(np.max(np.abs(w)))
         out.append(ActuatorSizing(
             joint=act["joint"], coordinate=i, unit=unit, gear_ratio=float(ratio),
-            peak_torque=peak, rms_torque=rms, peak_motor_torque_n_m=peak / ratio,
-            rms_motor_torque_n_m=rms / ratio, peak_speed=speed,
+            peak_torque=peak, rms_torque=root, peak_motor_torque_n_m=peak / ratio,
+            rms_motor_torque_n_m=root / ratio, peak_speed=speed,
             peak_motor_speed_rad_s=speed * ratio,
             peak_power_w=float(np.max(np.abs(power))),
             mean_power_w=float(energy / span) if span > 0 else 0.0,

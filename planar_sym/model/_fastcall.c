@@ -207,25 +207,32 @@ done:
     return result;
 }
 
-/* designs(P, *arrays, reduce=False): the loop once per design, each with its own parameter
- * vector P[d] (D, n_p), over the same N samples: an array of shape (N, size) is shared by every
- * design, one of shape (D, N, size) is per design. Outputs gain a leading design axis; with
- * reduce=True only per-design statistics come back, shape (D, components, 3): the minimum, the
- * maximum and the mean square of every output component over the samples (the per-sample
- * values pass through one reused buffer, so a sweep's memory does not grow with N). The loop
- * over the designs runs without the GIL. */
+/* designs(P, *arrays, reduce=False, weights=None): the loop once per design, each with its own
+ * parameter vector P[d] (D, n_p), over the same N samples: an array of shape (N, size) is shared
+ * by every design, one of shape (D, N, size) is per design. Outputs gain a leading design axis;
+ * with reduce=True only per-design statistics come back, shape (D, components, 3): the minimum,
+ * the maximum and the mean square of every output component over the samples (the per-sample
+ * values pass through one reused buffer, so a sweep's memory does not grow with N). The mean
+ * square is sum w_s v_s^2 with weights (N,) given (a time average by the trapezoidal rule, as
+ * one run's RMS: a trial found the plain mean 1e-3 off it on a fast move), else the plain mean.
+ * The loop over the designs runs without the GIL. */
 static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t nargs,
                                 PyObject *kwnames) {
-    PyArrayObject *P = NULL, *arr[MAX_IO] = {0};
+    PyArrayObject *P = NULL, *W = NULL, *arr[MAX_IO] = {0};
     PyObject *outs[MAX_IO] = {0}, *result = NULL;
     double *scratch = NULL;
     int reduce = 0, i, shared[MAX_IO];
     npy_intp D, N = -1, np_ = PyArray_DIM((PyArrayObject *)self->p, 0), comps = 0;
     Py_ssize_t nkw = kwnames ? PyTuple_GET_SIZE(kwnames) : 0;
+    PyObject *weights = NULL;
     for (Py_ssize_t k = 0; k < nkw; ++k) {
-        if (PyUnicode_CompareWithASCIIString(PyTuple_GET_ITEM(kwnames, k), "reduce") != 0) {
-            PyErr_Format(PyExc_TypeError, "designs: unexpected keyword %R",
-                         PyTuple_GET_ITEM(kwnames, k));
+        PyObject *key = PyTuple_GET_ITEM(kwnames, k);
+        if (PyUnicode_CompareWithASCIIString(key, "weights") == 0) {
+            weights = args[nargs + k] == Py_None ? NULL : args[nargs + k];
+            continue;
+        }
+        if (PyUnicode_CompareWithASCIIString(key, "reduce") != 0) {
+            PyErr_Format(PyExc_TypeError, "designs: unexpected keyword %R", key);
             return NULL;
         }
         reduce = PyObject_IsTrue(args[nargs + k]);
@@ -280,6 +287,16 @@ static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t 
             goto done;
     }
     for (i = 0; i < self->n_out; ++i) comps += self->out_rows[i] * self->out_cols[i];
+    if (weights) {
+        W = (PyArrayObject *)PyArray_FROMANY(weights, NPY_DOUBLE, 1, 1,
+                                             NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
+        if (!W || !reduce || PyArray_DIM(W, 0) != N) {
+            PyErr_Clear();
+            PyErr_Format(self->error, "weights must be a float array of shape (%zd,), one per "
+                         "sample, and only with reduce=True", (Py_ssize_t)N);
+            goto done;
+        }
+    }
     if (reduce) {
         npy_intp dims[3] = {D, comps, 3};
         outs[0] = PyArray_SimpleNew(3, dims, NPY_DOUBLE);
@@ -305,6 +322,7 @@ static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t 
     {
         long long failed = -1;
         const double *pp = PyArray_DATA(P);
+        const double *wt = W ? (const double *)PyArray_DATA(W) : NULL;
         Py_BEGIN_ALLOW_THREADS
         for (npy_intp d = 0; d < D && failed < 0; ++d) {
             const double *in[MAX_IO + 1];
@@ -333,11 +351,11 @@ static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t 
                         double v = out[k][s * size + c];
                         lo = v < lo ? v : lo;
                         hi = v > hi ? v : hi;
-                        sq += v * v;
+                        sq += wt ? wt[s] * v * v : v * v;
                         if (v != v) { lo = hi = v; }  /* NaN poisons both: a failed sample shows */
                     }
                     double *st = stats + (c0 + c) * 3;
-                    st[0] = lo; st[1] = hi; st[2] = N > 0 ? sq / (double)N : 0.0;
+                    st[0] = lo; st[1] = hi; st[2] = wt ? sq : N > 0 ? sq / (double)N : 0.0;
                 }
                 c0 += size;
             }
@@ -352,15 +370,17 @@ static PyObject *caller_designs(Caller *self, PyObject *const *args, Py_ssize_t 
 done:
     PyMem_RawFree(scratch);
     Py_XDECREF(P);
+    Py_XDECREF(W);
     for (i = 0; i < MAX_IO; ++i) { Py_XDECREF(arr[i]); Py_XDECREF(outs[i]); }
     return result;
 }
 
 static PyMethodDef caller_methods[] = {
     {"designs", (PyCFunction)(void (*)(void))caller_designs, METH_FASTCALL | METH_KEYWORDS,
-     "designs($self, P, /, *arrays, reduce=False)\n--\n\n"
+     "designs($self, P, /, *arrays, reduce=False, weights=None)\n--\n\n"
      "The loop once per parameter vector P[d] (D, n_p), over shared (N, size) or per-design\n"
-     "(D, N, size) inputs; reduce: min, max and mean square per design."},
+     "(D, N, size) inputs; reduce: min, max and mean square per design (sum of weights[s]\n"
+     "v[s]^2 with weights (N,), else the plain mean)."},
     {NULL, NULL, 0, NULL}};
 
 static PyObject *caller_get_doc(Caller *self, void *closure) {

@@ -17,9 +17,11 @@ class Caller:
     """
 
     def __call__(self, *arrays: npt.ArrayLike, **named: npt.ArrayLike) -> np.ndarray | tuple[np.ndarray, ...]: ...
-    def designs(self, P: npt.ArrayLike, *arrays: npt.ArrayLike, reduce: bool = False) -> np.ndarray | tuple[np.ndarray, ...]:
+    def designs(self, P: npt.ArrayLike, *arrays: npt.ArrayLike, reduce: bool = False,
+                weights: npt.ArrayLike | None = None) -> np.ndarray | tuple[np.ndarray, ...]:
         """The loop once per parameter vector ``P[d]`` (D, n_p) over shared (N, size) or
-        per-design (D, N, size) inputs; ``reduce``: min, max and mean square per design."""
+        per-design (D, N, size) inputs; ``reduce``: min, max and mean square per design (the
+        sum of ``weights[s] v[s]**2`` with ``weights`` (N,), else the plain mean)."""
 
 def make(address: int, in_sizes: tuple[int, ...], p_slot: int,
          out_specs: tuple[tuple[int, int, int], ...], p: npt.ArrayLike, error: type[Exception],

@@ -24,7 +24,8 @@ def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
     """Figures (default: the peak torques, or every figure if there are none) against the
     varied parameter ``x`` (default the first that changes: a control sweep on the plant only
     holds the model's column); with a second varied parameter on a grid, one line per its
-    value (at most 8, else points). A column that holds one value is no dimension."""
+    value (at most 8, else points). A column that holds one value is no dimension. Designs
+    over an actuator limit (``over_limits``) are ringed in red."""
     x = x or next((v for v in result.varied if _changes(result.columns[v])), result.varied[0])
     if x not in result.columns:
         raise InputError(f"no column {x!r} in the sweep (columns: {', '.join(result.columns)})")
@@ -55,12 +56,18 @@ def sweep_figure(result: SweepResult, x: str | None = None, figures=None):
         else:
             sc = ax.scatter(xs, ys, c=result.columns[group], s=6)
             fig.colorbar(sc, ax=ax, label=label(result, group))
+        over = np.array(sorted(result.over_limits), dtype=int)
+        if len(over):
+            ax.scatter(xs[over], ys[over], s=40, facecolors="none", edgecolors="red", zorder=5,
+                       label="over an actuator limit" if ax is axes[0] else None)
         ax.set_ylabel(label(result, name))
         ax.grid(True, alpha=0.3)
-    if lines and group is not None:
+    if (lines and group is not None) or len(result.over_limits):
         axes[0].legend(fontsize=7)
     axes[-1].set_xlabel(label(result, x))
     failed = f", {len(result.failed)} failed" if result.failed else ""
+    if result.over_limits:
+        failed += f", {len(result.over_limits)} over an actuator limit"
     axes[0].set_title(f"sweep of {result.study}: {len(result)} designs{failed}", fontsize=9)
     tight(fig)
     return fig
