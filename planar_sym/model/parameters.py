@@ -6,7 +6,13 @@ Rules, with their figures:
 * every value finite; masses > 0; inertias >= 0 (a body with extent needs > 0);
 * a radius of gyration sqrt(izz / m) at most ``GYRATION_LIMIT`` (3) times the body's extent,
   the largest distance from its centre of gravity to its points (as in the description; here
-  the points the equations use and the frame origin, which is always one of its points);
+  the points the equations use and the frame origin, which is always one of its points); a
+  body of a single point against the robot's reach (the sum of its bodies' sizes, the
+  description's bound of its span);
+* the centre of gravity at most ``CG_ERROR`` (10) times the body's size outside the outline of
+  its points (the robot's reach for a single point), a warning beyond ``CG_WARN`` (1), as in
+  the description (a user trial: cgx = 1.2 m on a 0.1 m link was refused in a description and
+  taken without a word by ``with_parameters``, ``--set``, a study and a sweep);
 * every other quantity by its row of the one table (``description.quantities``) that
   ``[joints.actuator]`` and the description's fields are checked by too: gravity magnitude
   ``g`` from 0 to ``G_LIMIT`` = 300 m/s^2 (the Sun's surface gives 274; more is a unit slip
@@ -21,13 +27,16 @@ from __future__ import annotations
 import math
 
 from .description import CLOSURE_TOLERANCE_M, GYRATION_LIMIT
+from .description.plausibility import diameter, outside_hull
 from .description.quantities import (
+    POINT_BALL,
     QUANTITIES,
     doubt,
     inertia_doubt,
     mass_doubt,
     of_parameter,
 )
+from .description.types import CG_ERROR, CG_WARN
 
 
 def _physical(name: str, v: float, unit: str) -> str | None:
@@ -52,10 +61,21 @@ def doubts(names, values: dict[str, float], units: dict[str, str],
     typed = typed or {}
     out, judged = [], set()
     for body in bodies:
+        moved = _cg_names(body, names, bodies)
+        ratio, size, off, yardstick = _cg_outside(values, body, bodies)
+        if moved and CG_WARN < ratio <= CG_ERROR:
+            out.append(_cg_message(moved, ratio, size, off, yardstick))
+            judged.update(moved)
         m, izz = f"m_{body}", f"izz_{body}"
         if (m in names or izz in names) and m in values and izz in values:
             extent = _extent(values, body, bodies)
-            if extent < CLOSURE_TOLERANCE_M:
+            if extent < CLOSURE_TOLERANCE_M:  # a single point: its mass against the reach
+                reach = _reach(values, bodies)
+                if m in names and reach >= CLOSURE_TOLERANCE_M and (
+                        msg := mass_doubt(*typed.get(m, (values[m], "kg")), reach,
+                                          POINT_BALL)) is not None:
+                    out.append(f"parameter {m} = {msg}")
+                    judged.add(m)
                 continue
             if m in names and (msg := mass_doubt(*typed.get(m, (values[m], "kg")),
                                                  extent)) is not None:
@@ -116,12 +136,17 @@ def problems(values: dict[str, float], bodies: tuple[str, ...],
             continue
         if m is None or izz is None:
             continue
+        if (msg := _outline(values, body, bodies)) is not None:
+            out.append(msg)
+            continue
         extent = _extent(values, body, bodies)
         radius = math.sqrt(izz / m)
-        if extent >= CLOSURE_TOLERANCE_M and izz == 0.0:
+        if extent < CLOSURE_TOLERANCE_M:
+            continue  # a single point: judged against the robot's reach by _outline
+        if izz == 0.0:
             out.append(f"parameter izz_{body} must be > 0 for a body with extent (its points "
                        f"reach {extent * 1e3:.4g} mm from its centre of gravity)")
-        elif extent >= CLOSURE_TOLERANCE_M and radius > GYRATION_LIMIT * extent:
+        elif radius > GYRATION_LIMIT * extent:
             out.append(f"parameter izz_{body} = {izz:.6g} kg*m^2 with m_{body} = {m:.6g} kg "
                        f"gives a radius of gyration of {radius * 1e3:.4g} mm for a body whose "
                        f"points reach {extent * 1e3:.4g} mm from its centre of gravity (more "
@@ -129,9 +154,42 @@ def problems(values: dict[str, float], bodies: tuple[str, ...],
     return out
 
 
+def _outline(values: dict[str, float], body: str, bodies: tuple[str, ...]) -> str | None:
+    """The rules a body's outline sets (the description's): its centre of gravity more than
+    ``CG_ERROR`` times its size outside it; a single point's radius of gyration beyond
+    ``GYRATION_LIMIT`` times the robot's reach. The message, or None. A massless link with its
+    mass at one of its points (``mass_at``: no izz) has no outline to hold that point to, as in
+    the description."""
+    if f"izz_{body}" not in values:
+        return None
+    ratio, size, off, yardstick = _cg_outside(values, body, bodies)
+    if ratio > CG_ERROR:
+        cg = [n for n in (f"cgx_{body}", f"cgy_{body}") if n in values] or [f"cgx_{body}"]
+        return (_cg_message(cg, ratio, size, off, yardstick) + " If the mass is really "
+                "there, give the body a point there")
+    m, izz = values.get(f"m_{body}"), values[f"izz_{body}"]
+    if m is None or not m > 0 or not izz >= 0:
+        return None
+    if _extent(values, body, bodies) >= CLOSURE_TOLERANCE_M:
+        return None
+    reach, radius = _reach(values, bodies), math.sqrt(izz / m)
+    if reach < CLOSURE_TOLERANCE_M or radius <= GYRATION_LIMIT * reach:
+        return None
+    return (f"parameter izz_{body} = {izz:.6g} kg*m^2 with m_{body} = {m:.6g} kg gives a radius "
+            f"of gyration of {radius * 1e3:.4g} mm to a body of a single point in a robot that "
+            f"reaches {reach * 1e3:.4g} mm (more than {GYRATION_LIMIT:g} times); a unit or "
+            "decimal-point slip?")
+
+
 def _extent(values: dict[str, float], body: str, bodies: tuple[str, ...]) -> float:
     """Largest distance (m) from the body's centre of gravity to its known points."""
     cg = (values.get(f"cgx_{body}", 0.0), values.get(f"cgy_{body}", 0.0))
+    return max(math.dist(cg, xy) for xy in _points(values, body, bodies).values())
+
+
+def _points(values: dict[str, float], body: str, bodies: tuple[str, ...]
+            ) -> dict[str, tuple[float, float]]:
+    """The body's known points (m, body frame), the frame origin among them."""
     points = {"": (0.0, 0.0)}  # the frame origin is one of the body's points
     longer = [b for b in bodies if b != body and b.startswith(f"{body}_")]
     for name, v in values.items():
@@ -142,7 +200,45 @@ def _extent(values: dict[str, float], body: str, bodies: tuple[str, ...]) -> flo
                 point = name[len(prefix):]
                 xy = points.setdefault(point, (0.0, 0.0))
                 points[point] = (v, xy[1]) if axis == "x" else (xy[0], v)
-    return max(math.dist(cg, xy) for xy in points.values())
+    return points
+
+
+def _reach(values: dict[str, float], bodies: tuple[str, ...]) -> float:
+    """The robot's reach (m): the sum of its bodies' sizes, the description's bound of the
+    span of a robot given by its joints' angles; a single-point body's yardstick."""
+    return sum(diameter(_points(values, b, bodies))[0] for b in bodies)
+
+
+def _cg_outside(values: dict[str, float], body: str, bodies: tuple[str, ...]
+                ) -> tuple[float, float, float, str]:
+    """(how many times its yardstick the centre of gravity lies outside the outline of the
+    body's points, the yardstick (m), the distance (m), what the yardstick is)."""
+    pts = _points(values, body, bodies)
+    cg = (values.get(f"cgx_{body}", 0.0), values.get(f"cgy_{body}", 0.0))
+    size, yardstick = diameter(pts)[0], "the body's size"
+    if size < CLOSURE_TOLERANCE_M:
+        size, yardstick = _reach(values, bodies), "the robot's reach (the body has one point)"
+        if size < CLOSURE_TOLERANCE_M:
+            return 0.0, size, 0.0, yardstick
+    off = outside_hull(cg, list(pts.values()))
+    return off / size, size, off, yardstick
+
+
+def _cg_names(body: str, names, bodies: tuple[str, ...]) -> list[str]:
+    """The parameters among ``names`` that place the body's centre of gravity or points."""
+    own = (f"cgx_{body}", f"cgy_{body}", f"px_{body}_", f"py_{body}_")
+    longer = [b for b in bodies if b != body and b.startswith(f"{body}_")]
+    return [n for n in names if n.startswith(own) and not any(
+        n.startswith((f"px_{b}_", f"py_{b}_")) for b in longer)]
+
+
+def _cg_message(names: list[str], ratio: float, size: float, off: float, yardstick: str
+                ) -> str:
+    which = (f"parameter {names[0]} puts" if len(names) == 1
+             else f"parameters {', '.join(names)} put")
+    return (f"{which} the centre of gravity {off * 1e3:.4g} mm outside the outline of the body's "
+            f"points, {ratio:.3g} times {yardstick} of {size * 1e3:.4g} mm (a warning beyond "
+            f"{CG_WARN:g} times, an error beyond {CG_ERROR:g}): is cg in another unit or frame?")
 
 
 def failing(names: list[str], P, bodies: tuple[str, ...], units: dict[str, str] | None = None):
@@ -174,7 +270,25 @@ def failing(names: list[str], P, bodies: tuple[str, ...], units: dict[str, str] 
             radius = np.sqrt(np.abs(izz) / m)
             big = extent >= CLOSURE_TOLERANCE_M
             bad |= big & ((izz == 0.0) | (radius > GYRATION_LIMIT * extent))
-    return bad
+    return bad | _outline_columns(names, P, bodies)
+
+
+def _outline_columns(names: list[str], P, bodies: tuple[str, ...]):
+    """``_outline`` of every row of ``P``, evaluated once per distinct row of the columns it
+    reads (a grid sweep has a few; a random sweep of lengths pays some 20 us a design)."""
+    import numpy as np
+
+    keep = [k for k, n in enumerate(names) if n.startswith(("cgx_", "cgy_", "px_", "py_",
+                                                             "m_", "izz_"))]
+    if not keep or not bodies:
+        return np.zeros(len(P), dtype=bool)
+    rows, inverse = np.unique(P[:, keep], axis=0, return_inverse=True)
+    sub = [names[k] for k in keep]
+    with np.errstate(all="ignore"):
+        found = np.array([any(_outline(dict(zip(sub, map(float, row))), b, bodies) is not None
+                              for b in bodies) if np.all(np.isfinite(row)) else False
+                          for row in rows])
+    return found[np.ravel(inverse)]
 
 
 def _extent_columns(col: dict, body: str, bodies: tuple[str, ...], D: int):

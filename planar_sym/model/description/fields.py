@@ -17,6 +17,7 @@ import re
 from pathlib import Path
 
 from ...expressions import Bad, constants, numbers
+from ...spelling import unknown_keys
 from ..units import SI, UNITS, factor
 from .quantities import QUANTITIES, doubt
 from .types import ZERO_SNAP_M
@@ -141,8 +142,9 @@ class Fields:
             self.err("units", "missing table [units] (length, mass, inertia, angle, acceleration)")
             return {}
         out = {}
-        for key in sorted(set(u) - UNIT_KEYS):
-            self.err(f"units.{key}", f"unknown quantity (known: {', '.join(sorted(UNIT_KEYS))})")
+        u = dict(u)  # a misspelt quantity is read as the one it nearly is: one message
+        unknown_keys(u, UNIT_KEYS, lambda key, msg: self.err(
+            f"units.{key}", msg.replace("unknown key", "unknown quantity")))
         used = self._units_used()
         for q in sorted(UNIT_KEYS):
             if q not in u:

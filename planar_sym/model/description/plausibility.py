@@ -108,13 +108,13 @@ class Plausibility(Fields):
         """The centre of gravity against the outline of the body's points; True when that is an
         error (the body's extent, measured from its cg, then says nothing more)."""
         pts = list(body.points_m.values())
-        size = _diameter(dict(enumerate(pts)))[0]
+        size = diameter(dict(enumerate(pts)))[0]
         yardstick = "the body's size"
         if size < CLOSURE_TOLERANCE_M:  # a single point (a motor, a bob): the robot's span
             size, yardstick = self.span_m, "the robot's span (the body has a single point)"
             if size < CLOSURE_TOLERANCE_M:
                 return False
-        out = _outside(body.cg_m, pts)
+        out = outside_hull(body.cg_m, pts)
         ratio = out / size
         if ratio <= CG_WARN:
             return False
@@ -205,13 +205,13 @@ def _bounds(groups: list[dict[str, Point]], pose: str):
     one frame, the span itself; with "joints" each body in its own coordinates, the largest body
     and the chain of all of them."""
     if pose == "world":
-        span = _diameter({k: v for g in groups for k, v in g.items()})
+        span = diameter({k: v for g in groups for k, v in g.items()})
         return span, span
-    return (max((_diameter(g) for g in groups), default=(0.0, "", "")),
-            (sum(_diameter(g)[0] for g in groups), "", ""))
+    return (max((diameter(g) for g in groups), default=(0.0, "", "")),
+            (sum(diameter(g)[0] for g in groups), "", ""))
 
 
-def _diameter(pts: dict) -> tuple[float, str, str]:
+def diameter(pts: dict) -> tuple[float, str, str]:
     """(largest distance between two of ``pts``, their labels)."""
     best = (0.0, "", "")
     items = list(pts.items())
@@ -251,7 +251,7 @@ def _segment(p: Point, a: Point, b: Point) -> float:
     return math.dist(p, (a[0] + t * dx, a[1] + t * dy))
 
 
-def _outside(p: Point, pts: list[Point]) -> float:
+def outside_hull(p: Point, pts: list[Point]) -> float:
     """Distance from ``p`` to the convex hull of ``pts`` (0 inside)."""
     hull = _hull(pts)
     if len(hull) == 1:

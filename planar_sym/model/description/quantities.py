@@ -222,17 +222,23 @@ def _readings(alts: list[tuple[str, float]], unit: str) -> str:
 
 # -- a body's mass and inertia against its size ---------------------------------------------------
 
-def mass_doubt(typed: float, unit: str, extent: float) -> str | None:
+#: the ball a single-point body's mass is held against: the robot's span as its radius
+POINT_BALL = "a ball as wide as the robot's span"
+
+
+def mass_doubt(typed: float, unit: str, extent: float,
+               ball: str = "the ball its points reach from its centre of gravity") -> str | None:
     """A warning for a mass (``typed`` in ``unit``) heavier than osmium filling the ball of
-    radius ``extent`` (m, its points' reach from its centre of gravity), or None."""
+    radius ``extent`` (m, its points' reach from its centre of gravity, or the robot's span for
+    a body of a single point: ``ball`` says which), or None."""
     q = QUANTITIES["mass"]
     most = DENSITY_MAX * 4.0 / 3.0 * math.pi * extent ** 3
     m = typed * UNITS["mass"][unit]
     if extent <= 0.0 or m <= most:
         return None
     fits = [(label, a) for label, a in q.alternatives(typed, unit) if a <= most]
-    return (f"{_shown(typed, unit, q)} is more than osmium filling the ball its points reach "
-            f"from its centre of gravity ({extent * 1e3:.4g} mm) would weigh ({most:.4g} kg); "
+    return (f"{_shown(typed, unit, q)} is more than osmium filling {ball} "
+            f"({extent * 1e3:.4g} mm) would weigh ({most:.4g} kg); "
             + (f"a slip? {_readings(fits, q.unit)}" if fits else "a unit or decimal slip?"))
 
 

@@ -268,6 +268,8 @@ class Topology(Actuators):
     def _closure(self, joints: list[Joint], bodies: dict[str, Body]) -> None:
         """Every joint's two points meet in the pose as typed (pose = "world", no assemble)."""
         for j in joints:
+            if j.parent == j.child:  # said already: "joins body ... to itself"
+                continue
             a = bodies[j.parent].world(bodies[j.parent].points_m[j.parent_point])
             b = bodies[j.child].world(bodies[j.child].points_m[j.child_point])
             gap = math.hypot(a[0] - b[0], a[1] - b[1])
