@@ -17,7 +17,8 @@ from planar_sym.study import spec
 from planar_sym.study.run import run
 from planar_sym.toml_write import dumps
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
 
 
 def write(tmp_path: Path, text: str, name: str = "study.toml") -> Path:
@@ -387,6 +388,38 @@ def test_joint_angles_beyond_a_turn_in_radians_warn_once(tmp_path):
             warnings.simplefilter("always")
             run(path)
         assert not [str(w.message) for w in caught if "turns" in str(w.message)]
+
+
+def test_a_start_pose_and_a_start_error_typed_in_degrees_warn(tmp_path):
+    """A trial: start_pose = [0, 90] in a radian file wrote q2 = 89.5 rad in every row, and
+    start_error = [2, -2] (meant in degrees) started the controller 115 degrees off, both
+    without a word (start, by and q0 warned). A start pose beyond a turn, a start error beyond a
+    quarter turn warn, each naming its field; the study's own degrees, or small radians, do not."""
+    import warnings
+
+    pose = ('robot = "serial_2dof"\nkind = "inverse"\n[units]\nlength = "mm"\n[motion]\n'
+            'space = "task"\nstart = [100.0, 100.0]\nby = [-200.0, 0.0]\nduration = 1.0\n'
+            'samples = 11\nstart_pose = [0.0, {q2}]\n')
+    track = (ROOT / "planar_sym" / "studies" / "serial_2dof_cartesian_track.toml").read_text()
+    assert 'angle = "deg"' in track and "start_error = [2.0, -2.0]" in track
+    cases = [(pose.format(q2="90.0"), "motion.start_pose[1] = 90 rad is 14.3 turns (a warning "
+              "beyond one)"),
+             (track.replace('angle = "deg"\n', "").split("[outputs]")[0],
+              "control.start_error[0] = 2 rad is 0.318 turns (a warning beyond a quarter)"),
+             (pose.format(q2="1.5708"), None),
+             (track.split("[outputs]")[0], None),
+             (track.replace('angle = "deg"\n', "").replace("start_error = [2.0, -2.0]",
+                                                           "start_error = [0.03, -0.03]")
+              .split("[outputs]")[0], None)]
+    for k, (text, want) in enumerate(cases):
+        path = write(tmp_path, text, name=f"s{k}.toml")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            run(path, samples=11)
+        said = [str(w.message) for w in caught if "turns" in str(w.message)]
+        assert said == ([] if want is None else [
+            f"{path}: {want}: were the angles typed in degrees? ([units] angle = \"deg\" makes "
+            f"it {want.split(' = ')[1].split(' rad')[0]} deg)"]), k
 
 
 def test_a_robot_description_given_as_a_study_is_one_message(tmp_path, capsys):

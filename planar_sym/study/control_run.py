@@ -25,7 +25,7 @@ from ..model.robot import Robot
 from ..motion.signals import from_motion, from_table
 from . import spec as specs
 from .columns import coordinates_note, task_series
-from .motion import check_width, coordinate_scale, joint_motion
+from .motion import check_width, coordinate_scale, joint_motion, warn_start_error
 from .result import Result, Series, coordinate_column
 
 
@@ -103,6 +103,7 @@ def _start_error(st: specs.Study, robot: Robot):
         return None
     act = list(robot.actuated)
     check_width(st, "control.start_error", err, len(act), "actuated joint")
+    warn_start_error(st, robot, err)
     return np.array(err) * coordinate_scale(st, robot)[act]
 
 

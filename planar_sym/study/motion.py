@@ -97,20 +97,29 @@ STATE_GAP_M = 1e-9
 MM_LIKE_M = 10.0
 
 
-def _warn_turns(st: specs.Study, robot: Robot, fld: str, values, coords) -> bool:
-    """Warn where a joint angle typed in radians (the default) exceeds a turn, as the
-    description does for its drawn angles: 360 meant in degrees ran 57 turns in a second.
+def _warn_turns(st: specs.Study, robot: Robot, fld: str, values, coords,
+                limit: float = ANGLE_TURN_RAD, beyond: str = "one") -> bool:
+    """Warn where a joint angle typed in radians (the default) exceeds ``limit`` (a turn), as
+    the description does for its drawn angles: 360 meant in degrees ran 57 turns in a second.
     True when it warned."""
     if values is None or st.angle_si != 1.0:
         return False
     for k, (i, v) in enumerate(zip(coords, values)):
-        if robot.coordinate_units[i] == "rad" and abs(v) > ANGLE_TURN_RAD:
+        if robot.coordinate_units[i] == "rad" and abs(v) > limit:
             warnings.warn(f"{st.path or st.name}: {fld}[{k}] = {v:g} rad is "
-                          f"{abs(v) / ANGLE_TURN_RAD:.3g} turns (a warning beyond one): were "
-                          f"the angles typed in degrees? ([units] angle = \"deg\" makes it "
-                          f"{v:g} deg)", RuntimeWarning, stacklevel=4)
+                          f"{abs(v) / ANGLE_TURN_RAD:.3g} turns (a warning beyond {beyond}): "
+                          f"were the angles typed in degrees? ([units] angle = \"deg\" makes "
+                          f"it {v:g} deg)", RuntimeWarning, stacklevel=4)
             return True
     return False
+
+
+def warn_start_error(st: specs.Study, robot: Robot, values) -> None:
+    """``control.start_error`` beyond a quarter turn in radians: a start error is a nudge off
+    the reference (a trial typed [2, -2] meaning degrees: the controller started 115 degrees
+    off)."""
+    _warn_turns(st, robot, "control.start_error", values, robot.actuated, ANGLE_TURN_RAD / 4,
+                "a quarter")
 
 
 def coordinate_scale(st: specs.Study, robot: Robot) -> np.ndarray:
@@ -124,6 +133,7 @@ def start_pose(st: specs.Study, robot: Robot) -> np.ndarray | None:
     if st.motion.start_pose is None:
         return None
     check_width(st, "motion.start_pose", st.motion.start_pose, robot.n, "coordinate")
+    _warn_turns(st, robot, "motion.start_pose", st.motion.start_pose, range(robot.n))
     q = np.array(st.motion.start_pose) * coordinate_scale(st, robot)
     _check_loops(st, robot, "motion.start_pose", q, START_POSE_GAP_M)
     return q
