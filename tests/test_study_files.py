@@ -402,8 +402,8 @@ def test_a_start_pose_and_a_start_error_typed_in_degrees_warn(tmp_path):
             'samples = 11\nstart_pose = [0.0, {q2}]\n')
     track = (ROOT / "planar_sym" / "studies" / "serial_2dof_cartesian_track.toml").read_text()
     assert 'angle = "deg"' in track and "start_error = [2.0, -2.0]" in track
-    cases = [(pose.format(q2="90.0"), "motion.start_pose[1] = 90 rad is 14.3 turns (a warning "
-              "beyond one)"),
+    cases = [(pose.format(q2="90.0"), ("motion.start_pose[1] = 90 rad is 14.3 turns (a warning "
+                                       "beyond one)")),
              (track.replace('angle = "deg"\n', "").split("[outputs]")[0],
               "control.start_error[0] = 2 rad is 0.318 turns (a warning beyond a quarter)"),
              (pose.format(q2="1.5708"), None),
