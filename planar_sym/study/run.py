@@ -164,7 +164,7 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x, timing: str 
     for k, loop in enumerate(robot.loops):
         data += [Series("fx", "N", inv.cut_forces[:, 2 * k], joint=loop),
                  Series("fy", "N", inv.cut_forces[:, 2 * k + 1], joint=loop)]
-    data += load_series(inv.loads)
+    data += load_series(inv.loads, {d.joint for d in robot.drive_train.drives if d.modelled})
     data += [Series("p", "W", inv.power_w[:, k], index=i)  # the power each actuator delivers
              for k, i in enumerate(robot.actuated)]
     note = _coordinates_note(robot) + (f"; {timing}" if timing else "")
@@ -172,6 +172,9 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x, timing: str 
         note += (f"; loop residual max |Phi| = {inv.loop_residual_m:.1e} m; f*: force on the "
                  "cut joint's parent body")
     note += "; jf*, jm*: joint loads, parent on child (world axes; jload = |jf|)"
+    if any(d.modelled for d in robot.drive_train.drives):
+        note += ("; jm at a geared joint: the link-side couple (tau less friction and rotor), "
+                 "what the gearbox and bearing carry")
     solver = getattr(jt, "solver", "")
     space = st.motion.space if st.motion else "joint"  # an optimal move is in joint space
     if space == "joint" and robot.is_closed_chain:
@@ -186,18 +189,20 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x, timing: str 
                   robot=robot.name, solver=solver, actuated=robot.actuated, timing=timing)
 
 
-def load_series(loads: JointLoads) -> list[Series]:
+def load_series(loads: JointLoads, driven: set[str] = frozenset()) -> list[Series]:
     """Every joint's load as series of that ``joint``: ``jfx``, ``jfy`` (N, world axes, the
     parent body on the child body; columns ``jfx_<joint>_n``), ``jload`` (|F|, the bearing
-    load); the reaction couple ``jm`` (N*m) of welds and prismatic joints (a revolute joint's
-    couple is its torque, or 0 if passive); a prismatic joint's normal force ``jfn`` (N)."""
+    load); the reaction couple ``jm`` (N*m) of welds and prismatic joints, and of the revolute
+    joints in ``driven`` (with an actuator model: the gearbox's output the link feels, less
+    friction and rotor than the torque; without one a revolute joint's couple is its torque,
+    or 0 if passive); a prismatic joint's normal force ``jfn`` (N)."""
     out = []
     load = loads.magnitude
     for i, (name, kind) in enumerate(zip(loads.names, loads.types)):
         out += [Series("jfx", "N", loads.force[:, i, 0], joint=name),
                 Series("jfy", "N", loads.force[:, i, 1], joint=name),
                 Series("jload", "N", load[:, i], joint=name)]
-        if kind in ("weld", "prismatic"):
+        if kind in ("weld", "prismatic") or (kind == "revolute" and name in driven):
             out.append(Series("jm", "N*m", loads.couple[:, i], joint=name))
         if kind == "prismatic":
             out.append(Series("jfn", "N", loads.normal[name], joint=name))
