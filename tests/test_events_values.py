@@ -167,7 +167,8 @@ def test_gear_parameter_over_the_description_ratio(actuated):
     assert [(s.kind, s.index) for s in specs] == [(2, 0), (3, 0)]
     assert specs[0].value == pytest.approx(0.2, rel=TOL)
     assert bound[0] == pytest.approx(0.2, rel=TOL)
-    assert specs[0].name == "actuator joint1 commanded beyond its torque limit 0.2 N*m"
+    assert specs[0].name == ("actuator joint1 commanded beyond its torque limit 0.2 N*m at the "
+                             "joint (the motor's 0.02 N*m x N = 10)")
     assert specs[1].value == pytest.approx(10.0 * math.pi, rel=TOL)
     assert specs[1].name == ("joint joint1 faster than its motor's limit (31.42 rad/s at the "
                              "joint)")
@@ -184,9 +185,11 @@ def test_motor_torque_limit_alone():
                                                      rel=TOL)
     assert bound == pytest.approx([0.5, 0.5], rel=TOL)
     assert [s.name for s in specs] == [
-        "actuator joint1 commanded beyond its torque limit 0.5 N*m",
+        ("actuator joint1 commanded beyond its torque limit 0.5 N*m at the joint (the motor's "
+         "0.01 N*m x N = 50)"),
         "joint joint1 faster than its motor's limit (16.76 rad/s at the joint)",
-        "actuator joint2 commanded beyond its torque limit 0.5 N*m",
+        ("actuator joint2 commanded beyond its torque limit 0.5 N*m at the joint (the motor's "
+         "0.01 N*m x N = 50)"),
     ]
 
 
@@ -229,7 +232,8 @@ def test_a_screw_reports_force_in_newtons_and_speed_in_metres_per_second():
     assert [s.value for s in specs] == pytest.approx([0.1 * screw, 0.2, 2.0, 10.0], rel=TOL)
     assert bound == pytest.approx([0.1 * screw, 2.0], rel=TOL)
     assert [s.name for s in specs] == [
-        "actuator slide commanded beyond its force limit 157.1 N",
+        ("actuator slide commanded beyond its force limit 157.1 N at the joint (the motor's "
+         "0.1 N*m x N = 1571)"),
         "joint slide faster than its motor's limit (0.2 m/s at the joint)",
         "actuator elbow commanded beyond its torque limit 2 N*m",
         "joint elbow faster than its motor's limit (10 rad/s at the joint)",
@@ -241,7 +245,8 @@ def test_a_screw_reports_force_in_newtons_and_speed_in_metres_per_second():
     specs, bound = actuator_events(geared, "continue")
     assert [s.value for s in specs[:2]] == pytest.approx([0.2, 50.0 * math.pi], rel=TOL)
     assert [s.stop for s in specs] == [False] * 4
-    assert specs[0].name == "actuator slide commanded beyond its force limit 0.2 N"
+    assert specs[0].name == ("actuator slide commanded beyond its force limit 0.2 N at the joint "
+                             "(the motor's 0.1 N*m x N = 2)")
     assert specs[1].name == "joint slide faster than its motor's limit (157.1 m/s at the joint)"
 
 

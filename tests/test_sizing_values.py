@@ -24,13 +24,15 @@ magnitude, is off by a factor (12.25 against 3.5; -13 against 22.6 N*m) and fail
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from conftest import ROOT
 
 import planar_sym as ps
 from planar_sym.dynamics.sizing import ActuatorSizing, size, table
-from planar_sym.study.run import run
+from planar_sym.study.run import load_study, run
 
 TOL = 1e-14
 _trapezoid = getattr(np, "trapezoid", None) or np.trapz
@@ -357,3 +359,24 @@ def test_a_value_on_its_limit_to_a_solvers_accuracy_is_within():
     assert _one(T5, TAU5, QD5, ratio=4.0, torque=5.0 / (1 + 1e-7)).exceeded == ()
     over = _one(T5, TAU5, QD5, ratio=4.0, torque=5.0 / (1 + 1e-5))
     assert len(over.exceeded) == 1 and "joint torque exceeds" in over.exceeded[0]
+
+
+def test_a_clipped_control_run_is_not_within_its_limits(tmp_path):
+    """A trial: the report's sizing table said "within" for a controlled run whose command was
+    clipped at the torque limit from 0.05 s (its applied torque stays within by clipping).
+    The limits cell now carries the run's events for that actuator, as the run logged them;
+    an actuator with no event and no limit passed still says "within"."""
+    from test_sweep_limits import TRACK
+
+    path = tmp_path / "track.toml"
+    path.write_text(TRACK)
+    st = load_study(path)
+    run = ps.run_study(replace(st, parameters={**st.parameters, "gear_j1": (1.2, "1")}))
+    clipped = [str(e) for e in run.events if "commanded beyond" in e.name]
+    assert clipped and all(not s.exceeded for s in run.sizing)  # applied: within, by clipping
+    row = table(run.sizing, run.events).splitlines()[2]
+    assert row.split("|")[-2].strip() == "; ".join(dict.fromkeys(str(e) for e in run.events))
+    assert "within" not in row and "at the joint (the motor's 0.5 N*m x N = 1.2)" in row
+    quiet = ps.run_study(replace(st, parameters={**st.parameters, "gear_j1": (20.0, "1")}))
+    assert not quiet.events
+    assert table(quiet.sizing, quiet.events).splitlines()[2].endswith("| within |")

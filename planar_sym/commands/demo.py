@@ -110,7 +110,7 @@ def index_text(results, robots: list[str]) -> str:
                    "limit the robot's actuator gives is checked, and the first time it is "
                    "exceeded named.")]
         for r in sized:
-            lines += ["", f"### {r.name}", "", table(r.sizing)]
+            lines += ["", f"### {r.name}", "", table(r.sizing, r.events)]
     lines += ["", "## Robots", "", "| robot | what | drawing |", "|---|---|---|"]
     for robot in robots:
         lines.append(f"| `{robot}` | {load_description(robot).title} | "

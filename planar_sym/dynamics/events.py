@@ -101,15 +101,18 @@ def actuator_events(robot, action: str) -> tuple[list[EventSpec], np.ndarray]:
     for a, act in enumerate(robot.actuators):
         ratio = params.get(f"gear_{act['joint']}", act["gear_ratio"])
         joint = act["joint"]
-        limits = [v for v in (act["torque_limit"],
-                              None if act["motor_torque_limit"] is None
-                              else act["motor_torque_limit"] * ratio) if v is not None]
+        motor = (None if act["motor_torque_limit"] is None
+                 else act["motor_torque_limit"] * ratio)
+        limits = [v for v in (act["torque_limit"], motor) if v is not None]
         if limits:
             bound[a] = min(limits)
             what = "force" if act["unit"] == "N" else "torque"
+            # which side: the joint's (a trial read 10 N*m beside the motor's 0.2 N*m limit)
+            side = (f" at the joint (the motor's {act['motor_torque_limit']:.4g} N*m x N = "
+                    f"{ratio:.4g})" if bound[a] == motor and ratio != 1.0 else "")
             out.append(EventSpec(2, a, bound[a], action == "stop",
                                  f"actuator {joint} commanded beyond its {what} limit "
-                                 f"{bound[a]:.4g} {act['unit']}"))
+                                 f"{bound[a]:.4g} {act['unit']}{side}"))
         if act["motor_speed_limit_rad_s"] is not None:
             v = act["motor_speed_limit_rad_s"] / ratio
             unit = "m/s" if act["unit"] == "N" else "rad/s"

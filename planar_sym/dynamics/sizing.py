@@ -165,8 +165,10 @@ def size(robot, t_s: np.ndarray, qd: np.ndarray, tau: np.ndarray) -> tuple[Actua
     return tuple(out)
 
 
-def table(sizing: tuple[ActuatorSizing, ...]) -> str:
-    """A Markdown table of the sizing, one row per actuator, units in the header."""
+def table(sizing: tuple[ActuatorSizing, ...], events=()) -> str:
+    """A Markdown table of the sizing, one row per actuator, units in the header. ``events``:
+    a controlled run's (``Event``), whose actuator's are in its limits cell: its applied torque
+    stays within by clipping, so "within" alone would read as "big enough" (a trial)."""
     if not sizing:
         return ""
     rows = [("| joint | gear | peak / RMS joint torque | peak / RMS motor torque (N*m) | "
@@ -175,7 +177,9 @@ def table(sizing: tuple[ActuatorSizing, ...]) -> str:
             "|---|---|---|---|---|---|---|---|---|"]
     for s in sizing:
         speed_unit = "m/s" if s.unit == "N" else "rad/s"
-        limits = "; ".join(s.exceeded) if s.exceeded else "within"
+        said = [*s.exceeded, *dict.fromkeys(
+            str(e) for e in events if f" {s.joint} " in f" {e.name} ")]
+        limits = "; ".join(said) if said else "within"
         rows.append(f"| {s.joint} | {s.gear_ratio:.4g} | {s.peak_torque:.4g} / "
                     f"{s.rms_torque:.4g} {s.unit} | {s.peak_motor_torque_n_m:.4g} / "
                     f"{s.rms_motor_torque_n_m:.4g} | {s.peak_speed:.4g} {speed_unit} | "

@@ -102,7 +102,8 @@ def sizing_table(result: Result) -> str:
     ``planar-sym demo``'s README shows, so both print the same numbers; "" without sizing."""
     from ..dynamics.sizing import table
 
-    lines = [ln.strip().strip("|").split("|") for ln in table(result.sizing).splitlines()
+    lines = [ln.strip().strip("|").split("|")
+             for ln in table(result.sizing, result.events).splitlines()
              if not ln.startswith("|---")]
     if not lines:
         return ""
