@@ -59,3 +59,20 @@ def test_no_couple_column_without_an_actuator_model():
     """The seed's arm: a revolute joint's couple is its torque, so it gets no column."""
     c = ps.run_study("serial_2dof_cartesian_move").columns
     assert [k for k in c if k.startswith("jm_")] == ["jm_weld_motor2_n_m"]
+
+
+def test_the_split_plot_says_the_sum_its_parts_make():
+    """A trial: the split's title said tau = M qdd + C qd + g above friction and rotor curves.
+    Its title now sums the parts it draws, which add up to the torque."""
+    from planar_sym.outputs.plots import split_figure
+
+    for study, want in ((GEARED, "tau = M qdd + C qd + g + D(qd) + rotors"),
+                        ("serial_2dof_cartesian_move", "tau = M qdd + C qd + g)")):
+        res = ps.run_study(study)
+        fig = split_figure(res)
+        texts = " ".join([*(t.get_text() for t in fig.texts),
+                          *(ax.get_title() for ax in fig.axes)])
+        assert want in texts, texts
+        parts = sum(res.split.values())
+        np.testing.assert_allclose(parts[:, 0], res.columns["tau1_n_m"], rtol=0,
+                                   atol=1e-12 * np.max(np.abs(res.columns["tau1_n_m"])))

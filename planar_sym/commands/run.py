@@ -17,7 +17,7 @@ def register(sub) -> None:
     p.add_argument("--samples", type=int, default=None,
                    help="evenly spaced samples, overriding the study's (2 to 1000000)")
     p.add_argument("--split", action="store_true",
-                   help="also plot each torque split into M qdd, C qd and g (STUDY_split.png)")
+                   help="also plot each torque split into M qdd, C qd and g, and friction and rotors where the robot has actuator models (STUDY_split.png)")
     p.add_argument("--npz", action="store_true",
                    help="also write STUDY.npz: the CSV's columns as float64 arrays (bit for bit), "
                         "with the study's and robot's names")

@@ -32,7 +32,7 @@ from ..files import atomic_files
 from ..study.result import Result
 
 #: picture kinds of a study, in page order: (file suffix, caption)
-STUDY_PICTURES = ((".png", "plot"), ("_split.png", "torque split into M qdd, C qd and g"),
+STUDY_PICTURES = ((".png", "plot"), ("_split.png", "torque split into M qdd, C qd, g (and friction, rotors)"),
                   (".gif", "animation"))
 MIME = {".png": "image/png", ".gif": "image/gif", ".svg": "image/svg+xml"}
 

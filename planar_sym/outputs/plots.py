@@ -182,7 +182,12 @@ def split_figure(result: Result):
     axes[0].legend(fontsize=7, ncol=4, loc="best")
     # cut-joint forces mark a closed chain, whose parts went through the multiplier solve
     closed = bool(result.series("fx"))
-    how = "each part through [S^T Phi_q^T], as tau is" if closed else "tau = M qdd + C qd + g"
+    # the sum the parts make, with the drive train's where it shows (a trial: the title said
+    # M qdd + C qd + g above friction and rotor curves)
+    terms = {"inertial": "M qdd", "velocity": "C qd", "gravity": "g", "friction": "D(qd)",
+             "rotor": "rotors"}
+    how = ("each part through [S^T Phi_q^T], as tau is" if closed
+           else "tau = " + " + ".join(terms[k] for k in shown))
     if not result.torques():
         how += "; tau = 0 here: the parts balance"
     names = {"inertial": "inertial M qdd", "velocity": "velocity C qd", "gravity": "gravity g",
