@@ -72,9 +72,15 @@ def _energy(d: _Derived) -> Section:
         Eq(m("T"), nt.grouped(nt.compact(lag.kinetic), rate, mass)),
         Eq(m("V"), nt.grouped(nt.compact(lag.potential), trig, mass)),
         Eq(m("L"), m("T - V"))])
+    # the rotors' terms are in T above (a trial: the note left them out)
+    rotors = any(f"jm_{j.name}" in d.model.sym.by_name for j in d.model.desc.tree_joints
+                 if j.actuator is not None)
+    spun = (" plus the rotors' ", m("1/2 J_m (w_parent + N qd_k)^2",
+                                    r"\tfrac12 J_m (\omega_\mathrm{parent} + N \dot q_k)^2"),
+            " (stator on the joint's parent body)") if rotors else ()
     energy.notes.append((
         m("T = 1/2 sum_b (m_b |v_b|^2 + I_b w_b^2)",
-          r"T = \tfrac12 \sum_b (m_b |v_b|^2 + I_b \omega_b^2)"),
+          r"T = \tfrac12 \sum_b (m_b |v_b|^2 + I_b \omega_b^2)"), *spun,
         " and ", m("V = sum_b m_b g y_b", r"V = \sum_b m_b g y_b"),
         " over the bodies b (", m("v_b, y_b"), ": velocity and height of the centre of gravity, ",
         m("w_b", r"\omega_b"), f": angular velocity; {_gravity_along(d.model)})."))

@@ -76,3 +76,31 @@ def test_the_split_plot_says_the_sum_its_parts_make():
         parts = sum(res.split.values())
         np.testing.assert_allclose(parts[:, 0], res.columns["tau1_n_m"], rtol=0,
                                    atol=1e-12 * np.max(np.abs(res.columns["tau1_n_m"])))
+
+
+def test_the_energy_note_names_the_rotors_it_sums(capsys):
+    """A trial: T in the report held the rotors' gear_joint1**2*jm_joint1 terms while its note
+    summed the bodies only. A robot with rotors says so; the seed's arm does not."""
+    from planar_sym.cli import main
+
+    geared = ROOT / "examples" / "serial_2dof_geared.toml"
+    assert main(["equations", str(geared)]) == 0
+    text = capsys.readouterr().out
+    assert "gear_joint1**2*jm_joint1" in text
+    assert "plus the rotors' 1/2 J_m (w_parent + N qd_k)^2" in text
+    seed = (ROOT / "generated" / "serial_2dof" / "equations.txt").read_text()
+    assert "T = 1/2 sum_b" in seed and "rotors'" not in seed
+
+
+def test_a_description_warning_is_said_once_on_export(tmp_path, capsys):
+    """A trial: export said a plausibility warning twice, the second time under the derived
+    folder's copy of the file (a cache path)."""
+    from planar_sym.cli import main
+
+    text = (ROOT / "examples" / "serial_2dof_geared.toml").read_text()
+    assert "mass = 0.292" in text
+    path = tmp_path / "heavy.toml"
+    path.write_text(text.replace("mass = 0.292", "mass = 2000", 1))
+    assert main(["export", str(path), "--out", str(tmp_path / "heavy.xml")]) == 0
+    err = capsys.readouterr().err
+    assert err.count("more than osmium") == 1 and f"warning: {path}: " in err
