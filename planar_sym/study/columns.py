@@ -19,7 +19,9 @@ def task_series(robot: Robot, x_si: np.ndarray, suffix: str = "") -> list[Series
 
 
 def coordinates_note(robot: Robot) -> str:
-    marks = [f"q{i + 1} = {name}{' (prismatic, m)' if u == 'm' else ''}"
+    """Which joint each q<k> is, a slide marked prismatic; no unit here: the columns' names and
+    the plots' axes carry theirs (a trial read "m" in a plot's note beside its mm axis)."""
+    marks = [f"q{i + 1} = {name}{' (prismatic)' if u == 'm' else ''}"
              f"{' (actuated)' if i in robot.actuated else ''}"
              for i, (name, u) in enumerate(zip(robot.coordinates, robot.coordinate_units))]
     return "coordinates: " + ", ".join(marks)
