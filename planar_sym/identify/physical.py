@@ -144,6 +144,10 @@ def physical_parameters(robot: Robot, estimate: Estimate) -> PhysicalFit:
 #: data make its standard deviation smaller still (4e-18 N*m of Coulomb friction from a
 #: simulated S3 move, which asked the user to change the description)
 ROUNDING = {"fc": 1e-9, "fv": 1e-9, "jm": 1e-12}
+#: an estimate whose torques are below this share of the data's (|value| against
+#: ``Estimate.scale``, the size that alone would give torques of the data's size) is too small
+#: to matter: left out where the description has no place for it, with the warning
+NEGLIGIBLE = 1e-4
 
 
 def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robot:
@@ -157,6 +161,9 @@ def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robo
     """
     v = fit.standard.as_dict()
     std = dict(zip((n.removesuffix("R") for n in estimate.base.names), estimate.std))
+    # what a value alone would add to the torques, against their size: a trial's noise-free
+    # data gave fv = 6e-7 N*m*s (0.0006 % of the torques), above 3 sigma and refused
+    scale = dict(zip((n.removesuffix("R") for n in estimate.base.names), estimate.scale))
     dropped = []
     par = robot.parameters
     values, homeless = {}, []
@@ -174,17 +181,18 @@ def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robo
         elif kind in ("jm", "fv", "fc"):
             if name in par:
                 values[name] = value
-            elif name in std and abs(value) > max(3 * std[name], ROUNDING[kind]):
+            elif name in std and abs(value) > max(3 * std[name], ROUNDING[kind],
+                                                  NEGLIGIBLE * scale[name]):
                 homeless.append(f"{name} = {value:.6g}")
             elif value != 0.0:  # near zero, or not a base parameter: the data cannot tell
-                dropped.append(f"{name} = {value:.3g}")
+                dropped.append(f"{name} = {value:.3g}")  # (or too small to matter)
     if homeless:
         raise InputError(f"{robot.name}: the description has no place for the identified "
                          f"{', '.join(homeless)}: give the joints' [joints.actuator] "
                          "viscous_friction and coulomb_friction (0 will do) and identify again")
     if dropped:
         warnings.warn(f"{robot.name}: left out {', '.join(dropped)} (within 3 standard "
-                      "deviations of zero, or not determined by this data; the description has "
-                      "no place for them)",
+                      "deviations of zero, below 0.01 % of the torques, or not determined by "
+                      "this data; the description has no place for them)",
                       RuntimeWarning, stacklevel=2)
     return robot.with_parameters(**values)
