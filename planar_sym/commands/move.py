@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 import re
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -142,15 +143,27 @@ _OPTION_OF = {"motion.duration": "--duration", "motion.start": "--from", "motion
 
 @contextmanager
 def _in_options():
-    """Errors in the words of the command line: the study it builds is not the user's file,
-    so ``motion.duration: must be > 0`` is said of ``--duration``."""
-    try:
-        yield
-    except (InputError, WorkspaceError) as exc:
-        text = str(exc)
-        for fld, option in _OPTION_OF.items():
-            text = re.sub(rf"(?<![\w.]){re.escape(fld)}(?![\w])" if not fld.endswith(".")
-                          else rf"(?<![\w.]){re.escape(fld)}", option, text)
-        if text == str(exc):
-            raise
-        raise (WorkspaceError if isinstance(exc, WorkspaceError) else InputError)(text) from None
+    """Errors and warnings in the words of the command line: the study it builds is not the
+    user's file, so ``motion.duration: must be > 0`` is said of ``--duration`` (and a doubtful
+    ``--set`` value is not said of "parameters": a trial)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        except (InputError, WorkspaceError) as exc:
+            text = _words(str(exc))
+            if text == str(exc):
+                raise
+            raise (WorkspaceError if isinstance(exc, WorkspaceError) else InputError)(
+                text) from None
+        finally:
+            said = [(w, _words(str(w.message))) for w in caught]
+    for w, text in said:  # as given, now under the caller's filters
+        warnings.warn_explicit(text, w.category, w.filename, w.lineno)
+
+
+def _words(text: str) -> str:
+    for fld, option in _OPTION_OF.items():
+        text = re.sub(rf"(?<![\w.]){re.escape(fld)}(?![\w])" if not fld.endswith(".")
+                      else rf"(?<![\w.]){re.escape(fld)}", option, text)
+    return text

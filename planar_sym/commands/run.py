@@ -64,8 +64,14 @@ def check_samples(samples: int | None) -> None:
 
 
 def check_out(out: Path) -> None:
+    """``--out`` must be a folder, or a path to make one at (a file on the way was a bare
+    "Not a directory" from the system: a trial)."""
     if out.exists() and not out.is_dir():
         raise InputError(f"--out {out} is a file, not a folder")
+    for above in Path(out).parents:
+        if above.exists() and not above.is_dir():
+            raise InputError(f"--out {out}: {above} is a file, so no folder can be made "
+                             "under it")
 
 
 def write_study(st, out: Path, samples: int | None = None, split: bool = False,

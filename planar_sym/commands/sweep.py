@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import sys
 import time
 from pathlib import Path
@@ -106,6 +107,11 @@ def run(args) -> int:
                        count=args.random, seed=args.seed, executor=executor,
                        workers=args.workers, on=args.on, progress=meter,
                        atlas={"points": args.atlas_points} if args.atlas else None)
+    except InputError as exc:  # in the command line's words: --vary NAME, not vary['NAME']
+        text = re.sub(r"vary\['([^']+)'\]", r"--vary \1", str(exc))
+        if text == str(exc):
+            raise
+        raise InputError(text) from None
     finally:
         meter.close()
         if executor is not None:

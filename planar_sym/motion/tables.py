@@ -110,6 +110,12 @@ def read_table(path: str | Path, columns: list[str] | list[list[str]]
     if not rows:
         raise InputError(f"{path}: empty: a header row (t_s, ...) and at least 2 rows of numbers")
     header_line, header = rows[0][0], [h.strip() for h in rows[0][1]]
+    named_cells = [h for h in header if h]
+    for sep, what in ((";", "semicolons"), ("\t", "tabs")):
+        if len(named_cells) == 1 and sep in named_cells[0]:  # one message, not one per column
+            raise InputError(f"{path}: line {header_line}: the header {named_cells[0]!r} is one "
+                             f"column: the table's columns are separated by {what}; separate "
+                             "them by commas (a CSV file)")
     problems = []
     for name in sorted({h for h in header if h and header.count(h) > 1}):
         problems.append(f"{path}: line {header_line}: column {name} appears "

@@ -25,7 +25,7 @@ from ..model.robot import Robot
 from ..motion.signals import from_motion, from_table
 from . import spec as specs
 from .columns import coordinates_note, task_series
-from .motion import check_width, coordinate_scale, joint_motion, warn_start_error
+from .motion import check_width, coordinate_scale, joint_motion, warn_start_error, warn_turns
 from .result import Result, Series, coordinate_column
 
 
@@ -116,6 +116,8 @@ def _limits(st: specs.Study, robot: Robot) -> dict:
             i = coordinate_index(robot, key)
         except InputError as exc:
             raise InputError(f"{st.path or st.name}: events.joint_limits.{key}: {exc}") from None
+        # limits typed in degrees in a radian study fired "at t = 0 s" with no file or field
+        warn_turns(st, robot, f"events.joint_limits.{key}", (lo, hi), (i, i))
         out[i] = (lo * scale[i], hi * scale[i])
     return out
 

@@ -26,7 +26,7 @@ def joint_motion(st: specs.Study, robot: Robot, samples: int | None = None, *,
     m = st.motion
     if m.space != "task":
         coords = robot.actuated if robot.is_closed_chain else range(robot.n)
-        any(_warn_turns(st, robot, f"motion.{key}", getattr(m, key, None), coords)
+        any(warn_turns(st, robot, f"motion.{key}", getattr(m, key, None), coords)
             for key in ("start", "by", "end"))  # one warning for one slip
     tr = trajectory(st, robot, samples) if t is None else profile_at(st, robot, np.asarray(t))
     q_start = start_pose(st, robot)  # picks the assembly (and working) mode
@@ -97,7 +97,7 @@ STATE_GAP_M = 1e-9
 MM_LIKE_M = 10.0
 
 
-def _warn_turns(st: specs.Study, robot: Robot, fld: str, values, coords,
+def warn_turns(st: specs.Study, robot: Robot, fld: str, values, coords,
                 limit: float = ANGLE_TURN_RAD, beyond: str = "one") -> bool:
     """Warn where a joint angle typed in radians (the default) exceeds ``limit`` (a turn), as
     the description does for its drawn angles: 360 meant in degrees ran 57 turns in a second.
@@ -118,7 +118,7 @@ def warn_start_error(st: specs.Study, robot: Robot, values) -> None:
     """``control.start_error`` beyond a quarter turn in radians: a start error is a nudge off
     the reference (a trial typed [2, -2] meaning degrees: the controller started 115 degrees
     off)."""
-    _warn_turns(st, robot, "control.start_error", values, robot.actuated, ANGLE_TURN_RAD / 4,
+    warn_turns(st, robot, "control.start_error", values, robot.actuated, ANGLE_TURN_RAD / 4,
                 "a quarter")
 
 
@@ -133,7 +133,7 @@ def start_pose(st: specs.Study, robot: Robot) -> np.ndarray | None:
     if st.motion.start_pose is None:
         return None
     check_width(st, "motion.start_pose", st.motion.start_pose, robot.n, "coordinate")
-    _warn_turns(st, robot, "motion.start_pose", st.motion.start_pose, range(robot.n))
+    warn_turns(st, robot, "motion.start_pose", st.motion.start_pose, range(robot.n))
     q = np.array(st.motion.start_pose) * coordinate_scale(st, robot)
     _check_loops(st, robot, "motion.start_pose", q, START_POSE_GAP_M)
     return q
@@ -147,7 +147,7 @@ def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray
     s, scale = st.simulation, coordinate_scale(st, robot)
     n_act = len(robot.actuated)
     short = robot.is_closed_chain and len(s.q0) == n_act
-    _warn_turns(st, robot, "simulation.q0", s.q0, robot.actuated if short else range(robot.n))
+    warn_turns(st, robot, "simulation.q0", s.q0, robot.actuated if short else range(robot.n))
     if robot.is_closed_chain and len(s.q0) == n_act:
         act = list(robot.actuated)
         qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0)

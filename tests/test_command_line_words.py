@@ -1,0 +1,64 @@
+"""Messages in the words of the route the user took, one per mistake (a user trial, trial H).
+
+Each case said something true in another route's words, or several lines for one slip: a
+``--set`` warning was headed "parameters:", a sweep's error named ``vary['m_link1']``, a
+semicolon-separated table gave one "missing column" per column, ``--out`` under a file was the
+system's bare "Not a directory", and joint limits typed in degrees in a radian study fired "at
+t = 0 s" with no file or field.
+"""
+
+from __future__ import annotations
+
+from conftest import ROOT
+
+from planar_sym.cli import main
+
+MOVE = ["move", "serial_2dof", "--task", "--from", "100,100", "--by=-200,0", "--duration", "2"]
+
+
+def test_a_set_warning_names_the_option(tmp_path, capsys):
+    assert main([*MOVE, "--set", "m_link2=75", "--out", str(tmp_path)]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("warning: --set: parameter m_link2 = 75 kg (read in kg) is more than "
+                          "osmium"), err
+    assert "parameters:" not in err
+
+
+def test_a_sweep_error_names_the_option(tmp_path, capsys):
+    assert main(["sweep", "serial_2dof_cartesian_move", "--vary", "m_link1=nan,1", "--out",
+                 str(tmp_path)]) == 2
+    assert capsys.readouterr().err == "error: --vary m_link1 must be finite (got [nan, 1.0])\n"
+
+
+def test_a_semicolon_table_is_one_message(tmp_path, capsys):
+    table = tmp_path / "move.csv"
+    table.write_text("t_s;x_mm;y_mm\n0;100;100\n1;90;100\n")
+    study = tmp_path / "s.toml"
+    study.write_text('robot = "serial_2dof"\nkind = "inverse"\n[units]\nlength = "mm"\n'
+                     '[motion]\nspace = "task"\nprofile = "table"\n'
+                     f'file = "{table.name}"\nsamples = 11\n')
+    assert main(["run", str(study), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"error: {table}: line 1: the header 't_s;x_mm;y_mm' is one column: the "
+                   "table's columns are separated by semicolons; separate them by commas (a CSV "
+                   "file)\n")
+
+
+def test_out_under_a_file_is_said_so(tmp_path, capsys):
+    (tmp_path / "afile").write_text("")
+    out = tmp_path / "afile" / "sub"
+    assert main(["run", "serial_2dof_cartesian_move", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (f"error: --out {out}: {tmp_path / 'afile'} is a file, so "
+                                       "no folder can be made under it\n")
+
+
+def test_joint_limits_in_degrees_in_a_radian_study_are_named(tmp_path, capsys):
+    text = (ROOT / "planar_sym" / "studies" / "serial_2dof_cartesian_track_pd.toml").read_text()
+    assert 'angle = "deg"' in text and "joint_limits = { joint2 = [-175.0, 175.0] }" in text
+    study = tmp_path / "track.toml"
+    study.write_text(text.replace('angle = "deg"\n', "").replace(
+        "start_error = [2.0, -2.0]", "start_error = [0.03, -0.03]").split("[outputs]")[0])
+    main(["run", str(study), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert (f"warning: {study}: events.joint_limits.joint2[0] = -175 rad is 27.9 turns (a "
+            "warning beyond one): were the angles typed in degrees?") in err
