@@ -2115,11 +2115,15 @@ def export_missing_folder(ctx):
 
 
 @bad(EXCHANGE, "exporting a robot with actuator models to URDF (`examples/serial_2dof_geared."
-               "toml`)",
-     Warned, r"serial_2dof_geared: actuator figures jm_joint1, fv_joint1, fc_joint1, jm_joint2 "
-             r"are not exported \(this file has no place for them\)",
-     "serial_2dof_geared: actuator figures jm_joint1, fv_joint1, fc_joint1, jm_joint2 are not "
-     "exported (this file has no place for them): the file holds the rigid bodies only",
+               "toml`): friction and limits go in, the rotors cannot",
+     Warned, r"serial_2dof_geared: jm_joint1: URDF has no rotor: its N\^2 J_m = 0\.00125 "
+             r"kg\*m\^2 at joint1 \(and J_m on its stator's body\) is not exported",
+     "serial_2dof_geared: jm_joint1: URDF has no rotor: its N^2 J_m = 0.00125 kg*m^2 at joint1 "
+     "(and J_m on its stator's body) is not exported (Pinocchio: model.armature; the MJCF export "
+     "carries it); fc_joint1: Coulomb friction 0.005 is URDF's dry friction here, not the smooth "
+     "c tanh(qd / 0.01) of planar-sym; jm_joint2: URDF has no rotor: its N^2 J_m = 0.00125 "
+     "kg*m^2 at joint2 (and J_m on its stator's body) is not exported (Pinocchio: "
+     "model.armature; the MJCF export carries it)",
      see=TE)
 def export_actuators(ctx):
     robot = ps.load(ROOT / "examples" / "serial_2dof_geared.toml")

@@ -39,7 +39,7 @@ import mujoco
 import numpy as np
 import pytest
 from conftest import ROBOTS_DIR as ROBOTS
-from conftest import TEST_ROBOTS, random_states, rel_err
+from conftest import ROOT, TEST_ROBOTS, random_states, rel_err
 
 import planar_sym as ps
 from planar_sym.errors import InputError, LibraryError
@@ -924,3 +924,38 @@ def test_a_rotor_on_a_body_that_only_slides_is_exported_whole(tmp_path, rng):
     ours = robot.tree_inverse_dynamics(q, qd, qdd)
     documented = ours - np.column_stack([np.zeros(len(q)), c2 * qdd[:, 2], c2 * qdd[:, 1]])
     assert rel_err(mj_inverse(mj_model(xml), robot, q, qd, qdd), documented) < GATE
+
+
+def test_urdf_carries_friction_and_the_actuators_limits(tmp_path):
+    """A trial: URDF's <dynamics damping friction> and <limit effort velocity> were said to have
+    no place, and friction and limits were dropped. The geared arm's joint 1 (fv 0.001 N*m*s,
+    fc 0.005 N*m, motor 0.01 N*m x N 50 = 0.5 N*m, 8000 rpm / 50 = 16.755 rad/s) and joint 2
+    (0.5 N*m, no speed limit), read back by Pinocchio's own URDF parser; the rotors are named
+    as not exported; --ideal writes neither."""
+    import pinocchio as pin
+
+    robot = ps.load(ROOT / "examples" / "serial_2dof_geared.toml")
+    with pytest.warns(RuntimeWarning, match=r"jm_joint1: URDF has no rotor"):
+        path = ps.export(robot, tmp_path / "geared.urdf")
+    model = pin.buildModelFromUrdf(str(path))
+    ids = [model.joints[model.getJointId(n)].idx_v for n in ("joint1", "joint2")]
+    np.testing.assert_array_equal(model.damping[ids], [0.001, 0.0])
+    np.testing.assert_array_equal(model.friction[ids], [0.005, 0.0])
+    np.testing.assert_allclose(model.effortLimit[ids], [0.01 * 50, 0.01 * 50], rtol=1e-15)
+    np.testing.assert_allclose(model.velocityLimit[ids],
+                               [8000 * 2 * math.pi / 60 / 50, 1e9], rtol=1e-15)
+    text = path.read_text()
+    assert "Drive train, NOT exact here: jm_joint1: URDF has no rotor" in text
+    with pytest.warns(RuntimeWarning, match="--ideal"):
+        ideal = ps.export(robot, tmp_path / "ideal.urdf", ideal=True).read_text()
+    body = ideal.split("-->", 1)[1]  # the elements, after the header comment
+    assert "<dynamics" not in body and "effort" not in body
+
+
+def test_mjcf_says_the_motor_speed_limit_has_no_place():
+    """A trial: MJCF dropped the motor's speed limit without a word."""
+    robot = ps.load(ROOT / "examples" / "serial_2dof_geared.toml")
+    with pytest.warns(RuntimeWarning, match=r"joint1: the motor's speed limit 8000 rpm has no "
+                                             r"place in MJCF"):
+        xml = to_mjcf(robot)
+    assert "joint1: the motor's speed limit 8000 rpm has no place in MJCF" in xml

@@ -14,8 +14,10 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path, default=None,
                    help="file to write (its folder must exist); default ROBOT.xml or ROBOT.urdf")
     p.add_argument("--ideal", action="store_true",
-                   help="MJCF: the ideal machine (no rotors, friction, gears or limits); default: "
-                        "the drive train as armature, damping, frictionloss, gear and ranges")
+                   help="the ideal machine (no rotors, friction, gears or limits); default: "
+                        "the drive train where the format has a place for it (MJCF: armature, "
+                        "damping, frictionloss, gear and ranges; URDF: damping, friction, effort "
+                        "and velocity limits)")
     p.set_defaults(fn=run)
 
 

@@ -61,10 +61,9 @@ def check_out(path: Path, name: str = "ROBOT") -> None:
 
 
 def text(robot, fmt: str = "mjcf", ideal: bool = False) -> str:
-    """The file's text: ``to_mjcf(robot, ideal)`` or ``to_urdf(robot)`` (``fmt``; URDF holds
-    the rigid bodies only, so ``ideal`` changes nothing there)."""
+    """The file's text: ``to_mjcf(robot, ideal)`` or ``to_urdf(robot, ideal)`` (``fmt``)."""
     fmt = format_of(fmt, None)
-    return to_mjcf(robot, ideal=ideal) if fmt == "mjcf" else FORMATS[fmt][0](robot)
+    return FORMATS[fmt][0](robot, ideal=ideal)
 
 
 def write(robot, path: str | Path | None = None, fmt: str | None = None,
@@ -80,8 +79,8 @@ def write(robot, path: str | Path | None = None, fmt: str | None = None,
     fmt : {"mjcf", "urdf"}, optional
         Default: from the suffix (.xml, .mjcf: MJCF; .urdf: URDF), else MJCF.
     ideal : bool
-        MJCF: the ideal machine (no rotors, friction, gears or limits); default the robot's
-        drive train where MJCF has a place for it (see ``export_mjcf``).
+        The ideal machine (no rotors, friction, gears or limits); default the robot's drive
+        train where the format has a place for it (``export_mjcf``, ``export_urdf``).
 
     Returns
     -------

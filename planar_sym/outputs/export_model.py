@@ -131,8 +131,8 @@ def from_description(desc: Description) -> RigidModel:
         source=Path(desc.path).name if desc.path else "")
 
 
-def from_robot(robot, drives: bool = False, left_out: str = "this file has no place for them"
-               ) -> RigidModel:
+def from_robot(robot, drives: bool = False, left_out: str = "this file has no place for them",
+               inexact=None) -> RigidModel:
     """The robot's description with ``robot.parameters`` (SI) in place of its values.
 
     Parameters
@@ -144,6 +144,9 @@ def from_robot(robot, drives: bool = False, left_out: str = "this file has no pl
         False: the rigid bodies only, every non-zero actuator figure named as not exported.
     left_out : str
         Why, in that warning: the format has no place for them, or the ideal machine was asked.
+    inexact : callable, optional
+        ``inexact(drive_train, joints by name)``: what the format cannot hold exactly of the
+        drive train, one sentence each (default MJCF's, ``_inexact_drives``).
 
     Raises
     ------
@@ -166,7 +169,7 @@ def from_robot(robot, drives: bool = False, left_out: str = "this file has no pl
                     for k, x in v.items() if k in defaults and x != defaults[k])
     train = robot.drive_train
     if drives:
-        skipped = _inexact_drives(train, {j.name: j for j in desc.tree_joints})
+        skipped = (inexact or _inexact_drives)(train, {j.name: j for j in desc.tree_joints})
         if skipped:
             warnings.warn(f"{robot.name}: " + "; ".join(skipped), RuntimeWarning, stacklevel=3)
     else:
@@ -200,6 +203,10 @@ def _inexact_drives(train, joints: dict[str, Joint]) -> tuple[str, ...]:
             out.append(f"fc_{d.joint}: Coulomb friction {d.coulomb!r} is exported as MuJoCo's "
                        f"frictionloss (dry friction, a soft constraint), not as the smooth "
                        f"c tanh(qd / {d.smoothing!r}) of planar-sym")
+        if d.motor_speed_limit_rad_s is not None:  # said nowhere before (a trial)
+            out.append(f"{d.joint}: the motor's speed limit "
+                       f"{d.motor_speed_limit_rad_s * 30 / math.pi:.6g} rpm has no place in "
+                       "MJCF (a motor limits its force only): not exported")
     return tuple(out)
 
 

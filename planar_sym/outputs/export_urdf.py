@@ -16,6 +16,13 @@ Construction (``export_model.RigidModel``, the robot's current parameters):
   ``lower``/``upper`` +-``UNLIMITED`` m, ``effort`` and ``velocity`` ``UNLIMITED`` (N, m/s),
   i.e. none;
 * a weld is a ``fixed`` joint rotated by the drawn relative angle;
+* the drive train (``[joints.actuator]``) where URDF has a place for it: ``<dynamics damping
+  friction>`` the joint's viscous (N*m*s/rad, N*s/m) and Coulomb (N*m, N) friction, ``<limit
+  effort velocity>`` the actuator's limits at the joint (the joint's own torque limit or the
+  motor's times N, whichever binds; the motor's speed over N). URDF has no rotor: a rotor
+  inertia is not exported (the header and a warning say so; Pinocchio takes it as
+  ``model.armature``), and its friction is dry, not our smooth ``c tanh(qd / v_s)``. A user
+  trial found friction and limits said to have "no place" in URDF, and dropped;
 * ``inertial``: mass, origin at the centre of gravity, ``ixx = iyy = izz/2`` (they never enter
   planar dynamics; the same choice as the MJCF), products zero;
 * visuals: a cylinder from the centre of gravity to each point and a sphere at the centre of
@@ -47,13 +54,15 @@ from .export_model import numbers as _v
 UNLIMITED = 1e9
 
 
-def to_urdf(robot) -> str:
+def to_urdf(robot, ideal: bool = False) -> str:
     """The URDF text of a tree robot with its current parameters (see module doc).
 
     Parameters
     ----------
     robot : planar_sym.Robot
         An open chain (no cut joints); revolute, prismatic and weld joints.
+    ideal : bool
+        True: the rigid bodies only (no friction or limits).
 
     Returns
     -------
@@ -74,7 +83,43 @@ def to_urdf(robot) -> str:
                          "would load as a different mechanism; export MJCF instead "
                          "(--format mjcf, or to_mjcf), which keeps every cut joint as an "
                          "equality constraint")
-    return urdf(from_robot(robot))
+    return urdf(from_robot(robot, drives=not ideal,
+                           left_out="--ideal: the ideal machine, as asked" if ideal
+                           else "this file has no place for them", inexact=_inexact))
+
+
+def _inexact(train, joints) -> tuple[str, ...]:
+    """What URDF cannot hold of the drive train, one sentence each."""
+    out = []
+    for d in train.drives:
+        if d.rotor_inertia:
+            out.append(f"jm_{d.joint}: URDF has no rotor: its N^2 J_m = "
+                       f"{d.gear_ratio ** 2 * d.rotor_inertia!r} kg*m^2 at {d.joint} (and J_m on "
+                       "its stator's body) is not exported (Pinocchio: model.armature; the MJCF "
+                       "export carries it)")
+        if d.coulomb:
+            out.append(f"fc_{d.joint}: Coulomb friction {d.coulomb!r} is URDF's dry friction "
+                       f"here, not the smooth c tanh(qd / {d.smoothing!r}) of planar-sym")
+    return tuple(out)
+
+
+def _drive_lines(d, prismatic: bool) -> list[str]:
+    """A joint's <dynamics> and <limit> from its drive (a prismatic joint's limit is required:
+    ``UNLIMITED`` where the actuator gives none)."""
+    out = []
+    if d is not None and (d.viscous or d.coulomb):
+        out.append(f'    <dynamics damping="{d.viscous!r}" friction="{d.coulomb!r}"/>')
+    limits = [] if d is None else [v for v in (
+        d.torque_limit, None if d.motor_torque_limit is None
+        else d.motor_torque_limit * d.gear_ratio) if v is not None]
+    effort = min(limits) if limits else None
+    velocity = (None if d is None or d.motor_speed_limit_rad_s is None
+                else d.motor_speed_limit_rad_s / d.gear_ratio)
+    if prismatic or effort is not None or velocity is not None:
+        span = f'lower="{-UNLIMITED!r}" upper="{UNLIMITED!r}" ' if prismatic else ""
+        out.append(f'    <limit {span}effort="{UNLIMITED if effort is None else effort!r}" '
+                   f'velocity="{UNLIMITED if velocity is None else velocity!r}"/>')
+    return out
 
 
 def urdf(model: RigidModel) -> str:
@@ -103,6 +148,7 @@ def urdf(model: RigidModel) -> str:
                   *_visuals(cg, [(x - ox, y - oy) for x, y in body.points_m.values()], radius),
                   "  </link>"]
     joints = []
+    drive = {d.joint: d for d in model.drives}
     for j in model.tree:
         px, py = model.bodies[j.parent].points_m[j.parent_point]
         ox, oy = frame[j.parent]
@@ -110,7 +156,8 @@ def urdf(model: RigidModel) -> str:
         lines = [f'    <parent link="{j.parent}"/>', f'    <child link="{j.child}"/>']
         if j.type == "revolute":
             kind = "continuous"
-            lines += [f'    <origin xyz="{_v(x, y, 0)}" rpy="0 0 0"/>', '    <axis xyz="0 0 1"/>']
+            lines += [f'    <origin xyz="{_v(x, y, 0)}" rpy="0 0 0"/>', '    <axis xyz="0 0 1"/>',
+                      *_drive_lines(drive.get(j.name), False)]
         elif j.type == "prismatic":
             kind = "prismatic"
             ux, uy = j.axis
@@ -119,8 +166,7 @@ def urdf(model: RigidModel) -> str:
             at = _v(x + s0 * ux, y + s0 * uy, 0)
             lines += [f'    <origin xyz="{at}" rpy="{_v(0, 0, rel)}"/>',
                       f'    <axis xyz="{_v(c * ux + s * uy, -s * ux + c * uy, 0)}"/>',
-                      (f'    <limit lower="{-UNLIMITED!r}" upper="{UNLIMITED!r}" '
-                      f'effort="{UNLIMITED!r}" velocity="{UNLIMITED!r}"/>')]
+                      *_drive_lines(drive.get(j.name), True)]
         else:
             kind = "fixed"
             lines += [f'    <origin xyz="{_v(x, y, 0)}" rpy="{_v(0, 0, rel)}"/>']
@@ -131,8 +177,12 @@ def urdf(model: RigidModel) -> str:
              ("Link frames: each body's planar-sym frame moved to its joint to the parent (axes "
              "unchanged); revolute joints are continuous about z, so each joint value is our q "
              "(Pinocchio: nq 2 per continuous joint, cos q and sin q). Match joints by name."),
-             ("Inertia: ixx = iyy = izz/2 (they never enter planar dynamics). No joint limits: a "
-             f"prismatic joint's required <limit> is +-{UNLIMITED:g} (none).")]
+             ("Inertia: ixx = iyy = izz/2 (they never enter planar dynamics). No position "
+             f"limits (a prismatic joint's required lower/upper are +-{UNLIMITED:g}: none); "
+             "effort and velocity limits are the actuators' at the joint where they give them "
+             f"(else {UNLIMITED:g}: none), friction <dynamics damping friction> the joints' "
+             "viscous and Coulomb friction (an engine's inverse dynamics, Pinocchio's rnea, "
+             "leaves them out).")]
     return "\n".join(['<?xml version="1.0"?>', f"<!--\n{header(model, 'URDF', extra)}\n-->",
                       f'<robot name="{model.name}">', *links, *joints, "</robot>", ""])
 
