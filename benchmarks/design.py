@@ -138,10 +138,8 @@ def _animation(cfg: Config, sec: Section, robot, jt) -> None:
 
     from matplotlib.animation import FuncAnimation, PillowWriter
 
-    from planar_sym.model.description import load as load_description
     from planar_sym.outputs.animation import scene_figure, write_animation
 
-    desc = load_description(robot.description_file)
     frames = 8 if cfg.quick else 40
     pick = np.linspace(0, len(jt.t_s) - 1, frames).astype(int)
     t, q = jt.t_s[pick], jt.q[pick]
@@ -149,10 +147,10 @@ def _animation(cfg: Config, sec: Section, robot, jt) -> None:
     folder = Path(tempfile.mkdtemp())
 
     def ours():
-        write_animation(robot, desc, t, q, folder / "ours.gif", title, q_reference=q + 0.05)
+        write_animation(robot, t, q, folder / "ours.gif", title, reference=(robot, q + 0.05))
 
     def matplotlib_route():
-        fig, update = scene_figure(robot, desc, t, q, title, q_reference=q + 0.05)
+        fig, update = scene_figure(robot, t, q, title, reference=(robot, q + 0.05))
         anim = FuncAnimation(fig, update, frames=len(t), blit=False)
         anim.save(folder / "mpl.gif", writer=PillowWriter(fps=20), dpi=80)
 

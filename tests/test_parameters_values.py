@@ -205,10 +205,13 @@ def test_doubts_skip_a_point_body_and_quote_what_was_typed():
 def test_a_negligible_own_offset_is_no_slip_reference():
     """The seed's 5-bar draws its links' centres of gravity 5e-8 m off their axes (the table's
     rounding): an identified 0.1 mm is 2000 times that but no slip, and is not called one; a
-    first-moment offset comparable to the body's reach still is."""
+    first-moment offset comparable to the body's reach still is: 10 times the link's own
+    (0.53 m, 4.3 times the link's size outside it) warned, 1000 times refused, as the
+    description's centre-of-gravity rule does."""
     import warnings
 
     import planar_sym as ps
+    from planar_sym.errors import InputError
 
     robot = ps.load("five_bar_type1")
     assert abs(robot.parameters["cgy_L_Link1"]) < 1e-7
@@ -216,5 +219,9 @@ def test_a_negligible_own_offset_is_no_slip_reference():
         warnings.simplefilter("error", RuntimeWarning)
         robot.with_parameters(cgy_L_Link1=1e-4)
     own = robot.parameters["cgx_L_Link1"]
-    with pytest.warns(RuntimeWarning, match=r"cgx_L_Link1 = .* times the robot's own"):
+    with pytest.warns(RuntimeWarning, match=r"parameter cgx_L_Link1 puts the centre of gravity "
+                                             r".* outside the outline"):
+        robot.with_parameters(cgx_L_Link1=own * 10)
+    with pytest.raises(InputError, match=r"parameter cgx_L_Link1 puts the centre of gravity "
+                                         r"5\.3\d*e\+04 mm outside .* 530 times the body's size"):
         robot.with_parameters(cgx_L_Link1=own * 1000)

@@ -31,8 +31,10 @@ SLIPS = {
                       r"be 0\.075 kg")),
     "izz_link2": (1.09864e-10, (r"izz_link2 = 1\.09864e-10 kg\*m\^2 \(read in kg\*m\^2\) gives "
                                r"a radius of gyration of 0\.03\d+ mm")),
-    "cgx_link2": (41.68, (r'cgx_link2 = 41\.68 m \(read in m\) is 1000 times the robot\'s own '
-                         r'0\.04168 m; a slip\? In "mm" it would be 0\.04168 m')),
+    # ten times (a cm read as mm): 3.17 times the link's size outside it, the outline's warning
+    # (a thousand times is refused, as in the description)
+    "cgx_link2": (0.4168, (r"cgx_link2 puts the centre of gravity 316\.8 mm outside the outline "
+                          r"of the body's points, 3\.17 times the body's size of 100 mm")),
     "g": (0.00981, r"g = 0\.00981 m/s\^2 \(read in m/s\^2\) is below the plausible 0\.1"),
     "gear_joint1": (0.02, (r"gear_joint1 = 0\.02 is 0\.0004 times the robot's own 50; a slip\? "
                           r"Upside down \(joint turns per motor turn\) it would be 50")),
@@ -132,7 +134,7 @@ def test_a_slip_is_warned_about(geared, tmp_path, capsys, route, name):
     hits = [s for s in said if re.search(message, s)]
     assert len(hits) == 1, said
     if route != "with_parameters":  # the file and table (or the sweep) it came from
-        assert re.search(r"(parameters|control\.plant|sweep range)", hits[0]), hits[0]
+        assert re.search(r"(parameters|control\.plant|sweep range|--set)", hits[0]), hits[0]
 
 
 @pytest.mark.parametrize("route", ROUTES)

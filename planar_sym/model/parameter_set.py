@@ -141,7 +141,7 @@ class Parameters(Mapping):
     def _judge(self, changed, where: str = "", typed: dict | None = None) -> None:
         """``check``, then ``warn_doubtful`` of the ``changed`` names, on one dict of values."""
         values = self._values()
-        found = problems(values, self.bodies, _units(self.entries))
+        found = problems(values, self.bodies, _units(self.entries), changed)
         if found:
             for name, (v, unit) in (typed or {}).items():  # what was typed, where not SI
                 if unit != _units(self.entries)[name]:

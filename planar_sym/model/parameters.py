@@ -116,8 +116,9 @@ def _reference(name: str, reference: dict[str, float], bodies: tuple[str, ...]
 
 
 def problems(values: dict[str, float], bodies: tuple[str, ...],
-             units: dict[str, str] | None = None) -> list[str]:
-    """Every physical problem of ``values`` (name -> SI value), one message each."""
+             units: dict[str, str] | None = None, changed=()) -> list[str]:
+    """Every physical problem of ``values`` (name -> SI value), one message each; a message
+    names the ``changed`` parameters among those it is about, where there are any."""
     out = []
     for name, v in values.items():
         if not math.isfinite(v):
@@ -136,7 +137,7 @@ def problems(values: dict[str, float], bodies: tuple[str, ...],
             continue
         if m is None or izz is None:
             continue
-        if (msg := _outline(values, body, bodies)) is not None:
+        if (msg := _outline(values, body, bodies, changed)) is not None:
             out.append(msg)
             continue
         extent = _extent(values, body, bodies)
@@ -154,7 +155,8 @@ def problems(values: dict[str, float], bodies: tuple[str, ...],
     return out
 
 
-def _outline(values: dict[str, float], body: str, bodies: tuple[str, ...]) -> str | None:
+def _outline(values: dict[str, float], body: str, bodies: tuple[str, ...],
+             changed=()) -> str | None:
     """The rules a body's outline sets (the description's): its centre of gravity more than
     ``CG_ERROR`` times its size outside it; a single point's radius of gyration beyond
     ``GYRATION_LIMIT`` times the robot's reach. The message, or None. A massless link with its
@@ -165,6 +167,7 @@ def _outline(values: dict[str, float], body: str, bodies: tuple[str, ...]) -> st
     ratio, size, off, yardstick = _cg_outside(values, body, bodies)
     if ratio > CG_ERROR:
         cg = [n for n in (f"cgx_{body}", f"cgy_{body}") if n in values] or [f"cgx_{body}"]
+        cg = [n for n in cg if n in changed] or cg  # the one the user moved, where known
         return (_cg_message(cg, ratio, size, off, yardstick) + " If the mass is really "
                 "there, give the body a point there")
     m, izz = values.get(f"m_{body}"), values[f"izz_{body}"]
