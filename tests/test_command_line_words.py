@@ -9,6 +9,7 @@ t = 0 s" with no file or field.
 
 from __future__ import annotations
 
+import pytest
 from conftest import ROOT
 
 from planar_sym.cli import main
@@ -62,3 +63,29 @@ def test_joint_limits_in_degrees_in_a_radian_study_are_named(tmp_path, capsys):
     err = capsys.readouterr().err
     assert (f"warning: {study}: events.joint_limits.joint2[0] = -175 rad is 27.9 turns (a "
             "warning beyond one): were the angles typed in degrees?") in err
+
+
+def test_vary_takes_a_unit_after_its_values(tmp_path):
+    """Two trials: --vary took SI only while --set and a study read a value with its unit. A
+    unit after the values converts them (the grid's count stays a count); a unit of another
+    quantity is refused naming the option."""
+    from planar_sym.analysis.sweep import sweep
+    from planar_sym.commands.sweep import parse_vary
+    from planar_sym.errors import InputError
+    from planar_sym.study.run import load_study, robot_of
+
+    robot = robot_of(load_study("serial_2dof_cartesian_move"))
+    assert parse_vary(["m_link2=50:90:5 g"], False, robot) == {"m_link2": (0.05, 0.09, 5.0)}
+    assert parse_vary(["m_link2=60,90 g"], False, robot) == {"m_link2": [0.06, 0.09]}
+    assert parse_vary(["px_link1_CS2,px_link2_CS2=90,110 mm"], False, robot) == {
+        "px_link1_CS2,px_link2_CS2": [0.09, 0.11]}
+    got = sweep("serial_2dof_cartesian_move", {"m_link2": [0.06, 0.09]}, workers=1)
+    assert main(["sweep", "serial_2dof_cartesian_move", "--vary", "m_link2=60,90 g", "--out",
+                 str(tmp_path)]) == 0
+    header, *rows = (tmp_path / "serial_2dof_cartesian_move_sweep.csv").read_text().splitlines()
+    assert [float(r.split(",")[0]) for r in rows] == [0.06, 0.09]
+    k = header.split(",").index("peak_tau1_n_m")
+    assert [float(r.split(",")[k]) for r in rows] == [float(f"{v:.12g}")
+                                                        for v in got.columns["peak_tau1_n_m"]]
+    with pytest.raises(InputError, match=r"--vary 'm_link2=60,90 mm': .* for a mass"):
+        parse_vary(["m_link2=60,90 mm"], False, robot)

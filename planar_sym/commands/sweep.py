@@ -26,7 +26,9 @@ def register(sub) -> None:
     p.add_argument("--vary", action="append", default=[], metavar="NAME=SPEC",
                    help="NAME=LOW:HIGH:COUNT (grid), NAME=V1,V2,... (values), NAME=LOW:HIGH "
                         "(with --random); NAME1,NAME2=... ties parameters to the same values; "
-                        "repeat for more parameters (a grid takes every combination)")
+                        "repeat for more parameters (a grid takes every combination). Values "
+                        "are SI (kg, m, kg*m^2: --parameters lists each one's), or in the unit "
+                        "given after them: 'm_link2=50:90:5 g'")
     p.add_argument("--parameters", action="store_true",
                    help="list the study's robot's parameters (name, value, SI unit) and stop")
     p.add_argument("--random", type=int, default=None, metavar="N",
@@ -52,18 +54,26 @@ def register(sub) -> None:
     p.set_defaults(fn=run)
 
 
-def parse_vary(items: list[str], random: bool) -> dict:
-    """``--vary`` options as ``sweep``'s ``vary``: names (tied by commas) to values."""
+def parse_vary(items: list[str], random: bool, robot=None) -> dict:
+    """``--vary`` options as ``sweep``'s ``vary``: names (tied by commas) to values, SI; a
+    unit after the values (``m_link2=50:90:5 g``) is converted by ``robot``'s parameters'
+    units, as ``--set`` and a study's [parameters] read a value typed with its unit."""
     vary = {}
     for item in items:
         name, sep, spec = item.partition("=")
         if not sep or not name.strip() or not spec.strip():
             raise InputError(f"--vary {item!r}: write NAME=LOW:HIGH:COUNT, NAME=V1,V2,... or "
                              "NAME=LOW:HIGH (with --random)")
+        spec, _, unit = spec.strip().partition(" ")
         try:
             numbers = [float(v) for v in spec.replace(":", ",").split(",")]
         except ValueError:
             raise InputError(f"--vary {item!r}: {spec!r} is not numbers") from None
+        if unit.strip():
+            scale = _unit_scale(item, name.split(","), unit.strip(), robot)
+            grid = ":" in spec and not random and len(numbers) == 3  # its count is a count
+            numbers = [v * scale for v in numbers[:2]] + numbers[2:] if grid else [
+                v * scale for v in numbers]
         if ":" in spec:
             want = 2 if random else 3
             if len(numbers) != want:
@@ -78,6 +88,24 @@ def parse_vary(items: list[str], random: bool) -> dict:
                              "--vary, e.g. NAME=V1,V2,V3)")
         vary[key] = value
     return vary
+
+
+def _unit_scale(item: str, names: list[str], unit: str, robot) -> float:
+    """SI per ``unit`` for the parameters ``names`` (tied ones share a quantity)."""
+    from ..model.parameter_set import QUANTITY
+    from ..model.units import factor
+
+    known = {p.name: p.unit for p in robot.parameter_list} if robot is not None else {}
+    kinds = {QUANTITY.get(known.get(n.strip(), ""), "") for n in names}
+    if len(kinds) != 1 or "" in kinds:
+        raise InputError(f"--vary {item!r}: a unit needs parameters of one quantity the units "
+                         f"table knows (mass, length, inertia, angle, acceleration; "
+                         f"{', '.join(n.strip() for n in names)} are not)")
+    kind = kinds.pop()
+    try:
+        return factor(kind, unit)
+    except KeyError as exc:
+        raise InputError(f"--vary {item!r}: {exc.args[0]} for a {kind}") from None
 
 
 def run(args) -> int:
@@ -98,7 +126,9 @@ def run(args) -> int:
         return _list_parameters(st)
     if not args.vary:
         raise InputError("say what varies: --vary NAME=LOW:HIGH:COUNT (names: --parameters)")
-    vary = parse_vary(args.vary, args.random is not None)
+    from ..study.run import robot_of
+
+    vary = parse_vary(args.vary, args.random is not None, robot_of(st))
     executor = _executor(args)
     start = time.perf_counter()
     meter = Meter(0, f"{st.name}: designs", quiet=args.quiet)  # the sweep tells the count
