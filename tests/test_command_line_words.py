@@ -89,3 +89,25 @@ def test_vary_takes_a_unit_after_its_values(tmp_path):
                                                         for v in got.columns["peak_tau1_n_m"]]
     with pytest.raises(InputError, match=r"--vary 'm_link2=60,90 mm': .* for a mass"):
         parse_vary(["m_link2=60,90 mm"], False, robot)
+
+
+def test_booleans_are_not_numbers_on_any_route():
+    """A trial: True was refused as a mass in a description and a study but read as 1 kg by
+    with_parameters, as 1 rad by the compiled calls and as 1 N*m by simulate."""
+    import numpy as np
+
+    import planar_sym as ps
+    from planar_sym.errors import InputError
+
+    arm = ps.load("serial_2dof")
+    calls = {"m_link1": lambda: arm.with_parameters(m_link1=True),
+             "q (array)": lambda: arm.inverse_dynamics(np.ones((1, 2), bool), [[0, 0]],
+                                                       [[0, 0]]),
+             "q (list)": lambda: arm.mass_matrix([True, False]),
+             "torque": lambda: ps.simulate(arm, [0, 1], [0, 0], (0, 0.1), torque=True),
+             "q0": lambda: ps.simulate(arm, [True, False], [0, 0], (0, 0.1))}
+    for what, call in calls.items():
+        with pytest.raises(InputError, match=r"(booleans|must be a number)"):
+            call()
+            raise AssertionError(what)
+    assert arm.mass_matrix([1, 0]).shape == (2, 2)  # integers are numbers

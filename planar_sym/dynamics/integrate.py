@@ -47,6 +47,8 @@ def torque_function(torque: Torque, n: int) -> Callable[[float], np.ndarray]:
         return checked
     rule = (f"torque must be None, {n} numbers (N*m; N at a slider), one for every actuated "
             "joint, or a function of time")
+    if np.asarray(torque).dtype == np.bool_:  # True read as 1 N*m (a trial)
+        raise InputError(f"{rule} (got booleans: {torque!r})")
     try:
         arr = np.asarray(torque, dtype=float)
     except (TypeError, ValueError) as exc:

@@ -93,6 +93,22 @@ static PyObject *pack(PyObject **outs, int n_out) {
     return result;
 }
 
+/* 1 where ``obj`` holds booleans (a bool array, a bool, a list of them): numbers only. An
+ * ndarray is judged by its dtype at no cost; anything else by the array numpy makes of it. */
+static int is_bool(PyObject *obj) {
+    if (PyArray_Check(obj)) return PyArray_TYPE((PyArrayObject *)obj) == NPY_BOOL;
+    if (PyBool_Check(obj)) return 1;
+    if (PyFloat_Check(obj) || PyLong_Check(obj)) return 0;
+    PyArrayObject *a = (PyArrayObject *)PyArray_FROM_O(obj);
+    if (!a) {
+        PyErr_Clear();
+        return 0;  /* the conversion below says what is wrong */
+    }
+    int out = PyArray_TYPE(a) == NPY_BOOL;
+    Py_DECREF(a);
+    return out;
+}
+
 static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
                              PyObject *kwnames) {
     Py_ssize_t nargs = PyVectorcall_NARGS(nargsf);
@@ -127,6 +143,11 @@ static PyObject *caller_call(Caller *self, PyObject *const *args, size_t nargsf,
             return NULL;
         }
     for (i = 0; i < self->n_in; ++i) {
+        if (is_bool(given[i])) {  /* True read as 1 rad (a trial): a description refuses it */
+            PyErr_Format(self->error, "%U must be numbers, got booleans (True/False)",
+                         PyTuple_GET_ITEM(self->names, i));
+            goto done;
+        }
         arr[i] = (PyArrayObject *)PyArray_FROMANY(given[i], NPY_DOUBLE, 1, 2,
                                                   NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
         if (!arr[i]) {

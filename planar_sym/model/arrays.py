@@ -48,6 +48,8 @@ def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> 
                          f"({width},): {exc}") from None
     if complex_:
         raise InputError(f"{name} must be real, got complex values")
+    if raw.dtype == np.bool_:  # True read as 1 rad, 1 N*m (a trial): a description refuses it
+        raise InputError(f"{name} must be numbers, got booleans (True/False)")
     if arr.ndim == 1:
         arr = arr[None, :]
     if arr.ndim != 2 or arr.shape[1] != width:

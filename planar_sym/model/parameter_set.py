@@ -199,6 +199,8 @@ class Parameters(Mapping):
                 raise InputError(f"{head}unknown parameter {name!r} of {self.owner}; known: "
                                  f"{', '.join(self._index)}{did_you_mean(name, self._index)}")
             try:
+                if isinstance(value, (bool, np.bool_)):  # as a description refuses it
+                    raise TypeError
                 p[self._index[name]] = float(value)
             except (TypeError, ValueError, OverflowError):
                 raise InputError(f"{head}parameter {name} must be a number in "
