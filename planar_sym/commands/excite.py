@@ -13,7 +13,7 @@ def register(sub) -> None:
     p.add_argument("robot", help="built-in robot name or a description file (.toml)")
     p.add_argument("--duration", type=float, required=True,
                    help="period of the motion (s): it repeats exactly")
-    p.add_argument("--harmonics", type=int, default=5, help="Fourier harmonics per joint")
+    p.add_argument("--harmonics", type=int, default=5, help="Fourier harmonics per joint (default 5)")
     p.add_argument("--out", type=Path, required=True,
                    help="the study file to write (STUDY.toml; its table STUDY_motion.csv beside "
                         "it)")
@@ -26,7 +26,7 @@ def register(sub) -> None:
                    help="largest joint acceleration (rad/s^2; m/s^2; default 10, 1)")
     p.add_argument("--rate", type=float, default=200.0,
                    help="samples per second of the table (Hz, default 200)")
-    p.add_argument("--seed", type=int, default=0, help="random starts' seed")
+    p.add_argument("--seed", type=int, default=0, help="random starts' seed (default 0)")
     p.set_defaults(fn=run)
 
 

@@ -33,11 +33,13 @@ def register(sub) -> None:
     space.add_argument("--joint", dest="space", action="store_const", const="joint",
                        help="move the joints (the actuated joints of a closed chain)")
     p.add_argument("--from", dest="start", required=True, metavar="A,B[,...]",
-                   help="start, comma-separated")
+                   help="start, comma-separated, in --length and --angle units (default mm, "
+                        "deg): the task point's x, y (and phi) with --task, the joints' "
+                        "coordinates with --joint")
     end = p.add_mutually_exclusive_group(required=True)
     end.add_argument("--by", metavar="A,B[,...]", help="displacement (use --by=-200,0 for "
                                                        "negative values)")
-    end.add_argument("--to", metavar="A,B[,...]", help="end position")
+    end.add_argument("--to", metavar="A,B[,...]", help="end position (the units of --from)")
     p.add_argument("--duration", type=float, required=True, help="seconds")
     p.add_argument("--start-pose", default=None, metavar="Q1,Q2[,...]",
                    help="a task move's starting joint coordinates (in --angle, --length), "
@@ -54,7 +56,8 @@ def register(sub) -> None:
                    help="inverse kinematics for --task (default auto: the seed's closed form "
                         "for its robots, else Newton)")
     p.add_argument("--name", default=None, help="result name (default ROBOT_move)")
-    p.add_argument("--out", type=Path, default=Path("results"), help="output folder")
+    p.add_argument("--out", type=Path, default=Path("results"),
+                   help="output folder (default results)")
     p.add_argument("--split", action="store_true", help="also write the torque split plot")
     p.add_argument("--animate", action="store_true", help="also write NAME.gif")
     p.add_argument("--save-study", type=Path, default=None, metavar="FILE",

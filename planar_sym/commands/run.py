@@ -13,7 +13,8 @@ def register(sub) -> None:
     p.add_argument("studies", nargs="*", metavar="STUDY",
                    help="built-in study name, or a study file (.toml)")
     p.add_argument("--all", action="store_true", help="run every built-in study")
-    p.add_argument("--out", type=Path, default=Path("results"), help="output folder")
+    p.add_argument("--out", type=Path, default=Path("results"),
+                   help="output folder (default results)")
     p.add_argument("--samples", type=int, default=None,
                    help="evenly spaced samples, overriding the study's (2 to 1000000)")
     p.add_argument("--split", action="store_true",

@@ -17,8 +17,8 @@ def register(sub) -> None:
     p.add_argument("--description", type=Path, default=None,
                    help="the robot's TOML, for the SymPy check (default: DIR/<name>/"
                         "description.toml, or the file named in the manifest)")
-    p.add_argument("--samples", type=int, default=20, help="random states per check")
-    p.add_argument("--seconds", type=float, default=1.0, help="length of the free motion (s)")
+    p.add_argument("--samples", type=int, default=20, help="random states per check (default 20)")
+    p.add_argument("--seconds", type=float, default=1.0, help="length of the free motion (s, default 1)")
     p.set_defaults(fn=run)
 
 
