@@ -43,7 +43,7 @@ def test_a_robot_drawn_stretched_moves_from_a_start_pose(tmp_path, capsys):
     """A 2-link arm drawn straight (the first tutorial's advice) cannot start a task move from
     its singular drawn pose; the refusal pointed to a start pose that `move` had no option for.
     Now it names --start-pose, and with it the move gives the seed's closed-form IK's torques
-    (the built-in serial_2dof, elbow up) to 1e-12 N*m."""
+    (the built-in serial_2dof, elbow down) to 1e-12 N*m."""
     arm = tmp_path / "arm2.toml"
     arm.write_text((ROBOTS_DIR / "serial_2dof.toml").read_text().replace(
         'name = "serial_2dof"', 'name = "arm2"', 1))

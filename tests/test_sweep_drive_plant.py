@@ -41,7 +41,7 @@ start = [100.0, 100.0]
 by = [-200.0, 0.0]
 duration = 1.0
 samples = 101
-start_pose = [0.0, 1.5708]   # rad: elbow up, as the seed's closed form
+start_pose = [0.0, 1.5708]   # rad: elbow down, as the seed's closed form
 """
 
 #: S3 tracked (serial_2dof_cartesian_track) on the geared arm, from the reference: the only
