@@ -178,3 +178,66 @@ def test_the_c_loops_weighted_mean_square():
     for bad in ({"reduce": True, "weights": np.ones(8)}, {"weights": rms_weights(t)}):
         with pytest.raises(PlanarSymError, match="weights must be a float array of shape"):
             fn.designs(P, q, qd, qdd, **bad)
+
+
+def _drive(joint, coordinate, **kw):
+    from planar_sym.model.drive import Drive
+
+    base = dict(joint=joint, coordinate=coordinate, unit="N*m", gear_ratio=1.0,
+                rotor_inertia=0.0, viscous=0.0, coulomb=0.0, smoothing=0.01, torque_limit=None,
+                motor_torque_limit=None, motor_speed_limit_rad_s=None, modelled=True)
+    return Drive(**{**base, **kw})
+
+
+class _Robot:
+    """What over_limits reads of a robot: its drives, coordinate units and actuated joints."""
+
+    def __init__(self, drives, units):
+        from types import SimpleNamespace
+
+        self.drive_train = SimpleNamespace(drives=tuple(drives))
+        self.coordinate_units = tuple(units)
+        self.actuated = tuple(d.coordinate for d in drives)
+
+
+def test_each_limit_is_named_in_its_unit_by_hand():
+    """A slider's joint force in N, a revolute joint's torque in N*m, a motor's torque and speed
+    (rpm, at each design's own ratio), several limits of one design joined; a limit with none
+    given is skipped without skipping the next; at the limit and within the margin is no
+    breach (sizing's ON_LIMIT, 1e-6), beyond it is."""
+    import math
+
+    from planar_sym.analysis.sweep_limits import over_limits
+
+    robot = _Robot([_drive("slide", 0, unit="N", torque_limit=100.0),
+                    _drive("j1", 1, torque_limit=5.0, motor_torque_limit=0.5,
+                           motor_speed_limit_rad_s=3000 * math.pi / 30)],
+                   ["m", "rad"])
+    ratios = np.array([[1.0, 10.0], [1.0, 20.0], [1.0, 10.0]])
+    peak = np.array([[150.0, 6.0], [100.0 * (1 + 5e-7), 4.0], [100.0 * (1 + 2e-6), 5.0]])
+    speed = np.array([0.1, 20.0])  # shared: m/s, rad/s
+    got = over_limits(robot, ratios, peak, speed)
+    assert got == {
+        0: ("slide: joint force peak 150 N over its limit 100 N; j1: joint torque peak 6 N*m "
+            "over its limit 5 N*m; j1: motor torque peak 0.6 N*m over its limit 0.5 N*m"),
+        1: "j1: motor speed peak 3820 rpm over its limit 3000 rpm",  # 20 rad/s x 20 = 400
+        2: "slide: joint force peak 100 N over its limit 100 N"}
+    assert over_limits(_Robot([_drive("j1", 0, motor_torque_limit=0.5)], ["rad"]),
+                       np.array([[2.0]]), np.array([[1.2]]), np.array([1.0])) == {
+        0: "j1: motor torque peak 0.6 N*m over its limit 0.5 N*m"}
+
+
+def test_a_runs_limits_are_its_sizing_or_under_control_its_events():
+    from types import SimpleNamespace
+
+    from planar_sym.analysis.sweep_limits import run_over_limits
+
+    sizing = (SimpleNamespace(exceeded=("j1: motor torque exceeds its limit",)),
+              SimpleNamespace(exceeded=()))
+    events = ("joint j2 reached its upper limit at t = 0.5 s",) * 2
+    free = SimpleNamespace(reference=None, sizing=sizing, events=events)
+    assert run_over_limits(free) == ("j1: motor torque exceeds its limit; joint j2 reached its "
+                                     "upper limit at t = 0.5 s")
+    tracked = SimpleNamespace(reference=np.zeros((2, 1)), sizing=sizing, events=events)
+    assert run_over_limits(tracked) == "joint j2 reached its upper limit at t = 0.5 s"
+    assert run_over_limits(SimpleNamespace(reference=None, sizing=(), events=())) == ""

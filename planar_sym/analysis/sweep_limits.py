@@ -32,9 +32,8 @@ def over_limits(robot: Robot, ratios: np.ndarray, peak_tau: np.ndarray,
     speed = np.broadcast_to(peak_speed, (D, len(robot.actuated)))
     out: dict[int, list[str]] = {}
     for k, d in enumerate(robot.drive_train.drives):
-        unit = "N" if robot.coordinate_units[d.coordinate] == "m" else "N*m"
-        what = "force" if unit == "N" else "torque"
-        checks = ((d.torque_limit, peak_tau[:, k], 1.0, f"joint {what}", unit),
+        what = "force" if d.unit == "N" else "torque"
+        checks = ((d.torque_limit, peak_tau[:, k], 1.0, f"joint {what}", d.unit),
                   (d.motor_torque_limit, peak_tau[:, k] / ratios[:, k], 1.0, "motor torque",
                    "N*m"),
                   (d.motor_speed_limit_rad_s, speed[:, k] * ratios[:, k], RPM, "motor speed",
