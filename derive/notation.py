@@ -24,6 +24,17 @@ RANK = {"inertia": 0, "mass": 1, "lumped": 2, "gravity": 3, "length": 4, "other"
 
 
 #: names the report itself uses; a display name must not be one of them
+def latex_name(sym: sp.Symbol) -> str:
+    """A parameter's LaTeX: a base of several letters set as one word, \\mathit{lc}_{12}, not
+    lc_{12}, which reads as l times c_{12}, a cosine of the same page (a lecturer's trial: 41
+    such products on the 3-RRR's page); Greek names and one-letter bases as SymPy sets them."""
+    latex = sp.latex(sym)
+    base = sym.name.split("_", 1)[0]
+    if len(base) > 1 and base.isalpha() and latex.startswith(base):
+        return rf"\mathit{{{base}}}" + latex[len(base):]
+    return latex
+
+
 _RESERVED = re.compile(r"^([cs][0-9_]+|q(d|dd)?[0-9]+|d(d|dd)?[0-9]+|f[0-9]+|tau[0-9]+|g[0-9]+|D[0-9]+|M[0-9]+|C[0-9]+|"
                        r"Phi[0-9]*|gamma[0-9]*|lambda[0-9]*|T|V|L|pi_[0-9]+|alpha|beta|delta|"
                        r"epsilon|zeta|eta|theta|kappa|mu|nu|xi|rho|sigma|chi|psi|omega)$")
@@ -77,7 +88,7 @@ class Notation:
             self.sub[p] = shown
             kind = ("inertia" if p.name.startswith("izz_") else "mass" if p.name.startswith("m_")
                     else "gravity" if p.name == "g" else "length")
-            self.add(shown, kind, shown.name, sp.latex(shown))
+            self.add(shown, kind, shown.name, latex_name(shown))
         for i, (q, qd, qdd, tau) in enumerate(zip(s.q, s.qd, s.qdd, s.tau), start=1):
             c = q.name[0]  # q, or d for a prismatic joint's displacement
             self.add(q, "other", q.name, f"{c}_{{{i}}}", (f"q{i:04d}",))

@@ -28,7 +28,10 @@ def md_escape(s: str) -> str:
 
 
 def tex_escape(s: str) -> str:
-    return "".join(_TEX.get(c, c) for c in s)
+    """Plain text for LaTeX; a unit's power (rad/s^2) set as one, not a stray caret."""
+    parts = re.split(r"\^(-?[0-9]+)", s)
+    return "".join(f"$^{{{p}}}$" if k % 2 else "".join(_TEX.get(c, c) for c in p)
+                   for k, p in enumerate(parts))
 
 
 def visible(latex: str) -> int:

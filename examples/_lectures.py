@@ -41,8 +41,11 @@ def equation_lines(text: str, labels: tuple[str, ...]) -> list[str]:
 
 
 def equations(robot: str, labels: tuple[str, ...]) -> list[str]:
-    """Those lines of ``generated/<robot>/equations.txt``."""
-    return equation_lines((find_generated(robot) / "equations.txt").read_text(), labels)
+    """Those lines of ``generated/<robot>/equations.txt``, before its identification sections
+    (their alpha, beta, ... in base parameters printed a second definition under the first, with
+    no heading between: a lecturer's trial)."""
+    text = (find_generated(robot) / "equations.txt").read_text()
+    return equation_lines(text.split("\nBase parameters", 1)[0], labels)
 
 
 def print_equations(robot: str, labels: tuple[str, ...]) -> None:

@@ -41,3 +41,24 @@ def test_a_mass_slip_is_blamed_on_the_mass(tmp_path):
     assert got.startswith("bodies[0] (link1).mass: 1e-09 kg (read in kg) is below the "
                           "plausible 0.0001 kg for a mass of a body")
     assert "radius of gyration of 2.99e+05 mm" in got  # sqrt(8.9395e-5 / 1e-9) m
+
+
+def test_a_link_typed_far_off_its_sketch_is_warned_when_the_loops_close(tmp_path):
+    """A student typed a four-bar's coupler 20 mm for 120: closing the loops turned the rocker
+    79 degrees from its given angle without a word. Beyond 30 degrees it is warned, with the
+    gap closed; the shipped four-bar's rough angles (1.6 degrees) are not."""
+    import warnings
+
+    text = (ROOT / "examples" / "four_bar_joints.toml").read_text()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_description(ROOT / "examples" / "four_bar_joints.toml")
+    assert "B = [120.0, 0.0]" in text
+    path = tmp_path / "short.toml"
+    path.write_text(text.replace("B = [120.0, 0.0]", "B = [20.0, 0.0]", 1))
+    with pytest.warns(RuntimeWarning, match=r"joints \((\w+)\): closing the loops turned \1 "
+                                             r"[0-9.]+ deg from its given angle \(a warning beyond "
+                                             r"30; the loops' gap was [0-9.]+ mm\): do the links' "
+                                             r"lengths match the sketch\?"):
+        desc = load_description(path)
+    assert desc.assembly is not None

@@ -97,3 +97,16 @@ def test_opti_example_on_the_saved_casadi_functions(tmp_path):
         assert float(re.search(r"peak \|tau\| (\S+) N\*m", out).group(1)) > 0.05
     assert misses[1] < 2e-3 and misses[0] / misses[1] > 4, misses  # seen: 6.4e-3, 8.7e-4
     assert list(tmp_path.iterdir()) == []
+
+
+def test_lecture_equations_define_each_symbol_once():
+    """A lecturer's trial: the lecture helper printed alpha, beta, delta, g1 and g2 twice, the
+    second time in base parameters from the identification sections, with no heading between."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "examples"))
+    from _lectures import equations
+
+    labels = ("alpha", "beta", "delta", "g1", "g2")
+    heads = [ln.split(" = ", 1)[0] for ln in equations("serial_2dof", labels) if " = " in ln]
+    assert sorted(heads) == sorted(labels), heads

@@ -183,9 +183,10 @@ def test_the_c_loops_weighted_mean_square():
 def _drive(joint, coordinate, **kw):
     from planar_sym.model.drive import Drive
 
-    base = dict(joint=joint, coordinate=coordinate, unit="N*m", gear_ratio=1.0,
-                rotor_inertia=0.0, viscous=0.0, coulomb=0.0, smoothing=0.01, torque_limit=None,
-                motor_torque_limit=None, motor_speed_limit_rad_s=None, modelled=True)
+    base = {"joint": joint, "coordinate": coordinate, "unit": "N*m", "gear_ratio": 1.0,
+            "rotor_inertia": 0.0, "viscous": 0.0, "coulomb": 0.0, "smoothing": 0.01,
+            "torque_limit": None, "motor_torque_limit": None, "motor_speed_limit_rad_s": None,
+            "modelled": True}
     return Drive(**{**base, **kw})
 
 
