@@ -76,9 +76,10 @@ def test_joint_angles_in_degrees_typed_with_rad_warn(tmp_path):
 
 def test_an_angle_of_one_turn_does_not_warn(tmp_path):
     assert types.ANGLE_TURN_RAD == pytest.approx(6.283185307179586)
+    # the sketch's own angles (60, -40, 65 deg), the first a turn away: -300 deg = -5.236 rad
     path = edited(tmp_path, FOUR_BAR_JOINTS, ('angle = "deg"', 'angle = "rad"'),
-                  ("angle = 60.0", "angle = 6.283"), ("angle = -40.0", "angle = -0.7"),
-                  ("angle = 65.0", "angle = 1.13"))
+                  ("angle = 60.0", "angle = -5.236"), ("angle = -40.0", "angle = -0.698"),
+                  ("angle = 65.0", "angle = 1.134"))
     assert warned(path) == []
 
 

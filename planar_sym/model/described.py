@@ -13,6 +13,7 @@ equations never use (drawn only): it keeps the description's value.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -57,7 +58,9 @@ def described(robot: Robot, purpose: str = "draw it") -> Description:
         raise InputError(f"{robot.name}: no description at hand to {purpose} (its generated "
                          f"folder {robot.library.folder} has no description.toml): {purpose} "
                          "from its description file ROBOT.toml")
-    desc = load_description(path)
+    with warnings.catch_warnings():  # the derived folder's copy: its warnings were said when
+        warnings.simplefilter("ignore")  # the user's file was read (a trial's export said
+        desc = load_description(path)    # them twice, the second under a cache path)
     names = [p.name for p in desc.parameters()]
     if names != [p.name for p in robot.parameter_list] or desc.coordinates != robot.coordinates:
         raise LibraryError(f"{robot.name}: its description {path} no longer matches its "

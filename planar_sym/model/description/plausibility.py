@@ -150,15 +150,12 @@ class Plausibility(Fields):
                               f"({reason}): the equation report would lose the symbol")
 
     def _show_warnings(self) -> None:
-        """Each warning once per file content (hash) and process, wherever the file lies: the
-        copy a derived folder keeps said it again under a cache path (a trial's export)."""
-        head = f"{self.path}: "
+        """Each warning once per file (hash) and process."""
         for text in self.warnings:
-            said = text.removeprefix(head)
             with _LOCK:
-                if (self.sha, said) in _SHOWN:
+                if (self.sha, text) in _SHOWN:
                     continue
-                _SHOWN.add((self.sha, said))
+                _SHOWN.add((self.sha, text))
             warnings.warn(text, RuntimeWarning, stacklevel=4)
 
 

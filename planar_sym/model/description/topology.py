@@ -33,6 +33,9 @@ class Topology(Actuators):
 
     #: body names given in the file, even those with problems of their own
     declared: frozenset = frozenset()
+    #: a joint angle beyond a turn in radians was warned (degrees typed as radians): closing
+    #: the loops then turns joints far from those angles, which says nothing more
+    angle_slip: bool = False
 
     def _joint(self, i: int, raw: dict, bodies: dict[str, Body], pose: str | None,
                scale: dict[str, float]) -> Joint | None:
@@ -162,6 +165,7 @@ class Topology(Actuators):
         if value is None or unit is None:
             return None
         if unit == 1.0 and abs(value) > ANGLE_TURN_RAD:
+            self.angle_slip = True  # the sketch's angles are the slip: said once, here
             self.warn(f"{f}.angle", f"{value:g} rad is {abs(value) / ANGLE_TURN_RAD:.3g} turns "
                                     f"(a warning beyond one): the drawn pose takes it as "
                                     f"{math.degrees(wrap_angle(value)):.4g} deg; were the angles "

@@ -154,6 +154,8 @@ class Validator(Bodies, Topology):
         """A warning where closing the loops turned a joint far from its given angle: rough
         angles move a few degrees (1.6 on the shipped four- and six-bars); a link typed 20 mm
         for 120 turned a student's rocker 79 degrees without a word (a trial)."""
+        if self.angle_slip:  # degrees typed as radians: warned already
+            return
         turned = {n: abs(math.degrees(v)) for n, v in result.angle_change_rad.items()
                   if n not in result.slides}
         name = max(turned, key=turned.get, default=None)
