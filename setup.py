@@ -34,6 +34,18 @@ ROOT = Path(__file__).resolve().parent
 #: carries a hash of these and of its source (tests/test_install.py checks the two agree)
 CFLAGS = ("-O3", "-fPIC", "-shared", "-std=c99")
 SIMD_CFLAGS = ("-O3", "-march=native", "-ffast-math", "-fPIC", "-std=c99")
+#: compile.GCC_SIMD_FLAGS, with gcc only
+GCC_SIMD_FLAGS = ("--param", "max-combine-insns=2")
+
+
+def _is_gcc(cc: str) -> bool:
+    """compile._is_gcc: whether ``cc`` is gcc (clang calls itself cc too)."""
+    try:
+        out = subprocess.run([cc, "--version"], capture_output=True, text=True, timeout=30,
+                             check=False).stdout
+    except (OSError, subprocess.SubprocessError):
+        return False
+    return "Free Software Foundation" in out and "clang" not in out
 
 
 def _extension(module: str, source: str) -> Extension:
@@ -54,7 +66,7 @@ def _machine_key() -> str:
     return hashlib.sha256("\n".join([platform.machine(), *lines]).encode()).hexdigest()[:8]
 
 
-def _robot_builds(folder: Path) -> list[tuple[Path, tuple, str]]:
+def _robot_builds(folder: Path, gcc: bool = False) -> list[tuple[Path, tuple, str]]:
     """(source, flags, file name) of one generated robot's libraries, named as
     compile.library_path names them: the exact functions, and the vectorised loops."""
     manifest = json.loads((folder / "manifest.json").read_text())
@@ -62,8 +74,9 @@ def _robot_builds(folder: Path) -> list[tuple[Path, tuple, str]]:
     builds = []
     if len(manifest.get("groups") or [0]) > 1:  # a big robot: its groups compile on first use
         return builds
+    simd = SIMD_CFLAGS + (GCC_SIMD_FLAGS if gcc else ())
     for flavour, flags, keyed in (("exact", CFLAGS, CFLAGS),
-                                  ("simd", SIMD_CFLAGS, SIMD_CFLAGS + (_machine_key(),))):
+                                  ("simd", simd, simd + (_machine_key(),))):
         source = f"{robot}.c" if flavour == "exact" else f"{robot}_{flavour}.c"
         if source in files:
             key = hashlib.sha256(" ".join([*keyed, files[source]]).encode()).hexdigest()[:8]
@@ -118,7 +131,7 @@ class BuildExt(build_ext):
             shutil.rmtree(target)
         target.mkdir(parents=True)
         jobs = [job for d in sorted((ROOT / "generated").iterdir())
-                if (d / "manifest.json").is_file() for job in _robot_builds(d)]
+                if (d / "manifest.json").is_file() for job in _robot_builds(d, _is_gcc(cc))]
         with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
             done = sum(pool.map(lambda job: _compile(cc, *job, target), jobs))
         print(f"planar-sym: compiled {done} of {len(jobs)} robot libraries")

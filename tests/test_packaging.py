@@ -51,7 +51,11 @@ def test_every_runtime_package_is_packaged():
 def test_install_names_libraries_as_the_runtime_does(robot):
     folder = find_generated(robot)
     manifest = read_manifest(folder)
-    names = {name for _, _, name in _setup_module()._robot_builds(folder)}
+    from planar_sym.model.compile import _compiler, _is_gcc
+
+    setup = _setup_module()
+    names = {name for _, _, name in setup._robot_builds(folder, setup._is_gcc(_compiler()))}
+    assert setup._is_gcc(_compiler()) == _is_gcc(_compiler())
     assert names == {library.library_path(folder, manifest).name,
                      library.library_path(folder, manifest, "simd").name}
 

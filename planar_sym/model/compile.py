@@ -12,6 +12,7 @@ does the same ahead of time.
 from __future__ import annotations
 
 import ctypes
+import functools
 import hashlib
 import os
 import platform
@@ -56,6 +57,33 @@ def _compiler() -> str:
 #: would otherwise link crtfastmath.o into the library and switch the whole process to
 #: flush-to-zero on load.
 SIMD_CFLAGS = ("-O3", "-march=native", "-ffast-math", "-fPIC", "-std=c99")
+#: with gcc (``simd_flags``): its RTL combiner takes three quarters of a big unit's time when
+#: it tries 3- and 4-instruction combinations over a 1,500-statement loop body (a 30-link
+#: chain's mass matrix unit: 59 s of CPU, 46 of them combining; a user trial met 109 s past 20
+#: links); 2-instruction combinations take 25 s there, and the loops run as fast (2 links'
+#: inverse dynamics 8.4 ns a sample either way, 20 links' mass matrix within the noise)
+GCC_SIMD_FLAGS = ("--param", "max-combine-insns=2")
+
+
+@functools.lru_cache(maxsize=4)
+def _is_gcc(cc: str) -> bool:
+    """Whether ``cc`` is gcc (clang calls itself cc too, and knows no such --param)."""
+    try:
+        out = subprocess.run([cc, "--version"], capture_output=True, text=True, timeout=30,
+                             check=False).stdout
+    except (OSError, subprocess.SubprocessError):
+        return False
+    return "Free Software Foundation" in out and "clang" not in out
+
+
+def simd_flags() -> tuple[str, ...]:
+    """The sample loops' flags for this machine's compiler (``SIMD_CFLAGS``, and with gcc
+    ``GCC_SIMD_FLAGS``)."""
+    try:
+        gcc = _is_gcc(_compiler())
+    except NoCompiler:
+        gcc = False
+    return SIMD_CFLAGS + (GCC_SIMD_FLAGS if gcc else ())
 
 
 def _machine_key() -> str:
@@ -98,7 +126,7 @@ def library_path(folder: Path, manifest: dict, flavour: str = "exact", group: in
     robot = manifest["robot"]
     source = f"{robot}.c" if flavour == "exact" else f"{robot}_{flavour}.c"
     flags = (exact_flags(manifest, group) if flavour == "exact"
-             else SIMD_CFLAGS + (_machine_key(),))
+             else simd_flags() + (_machine_key(),))
     key = hashlib.sha256(" ".join([*flags, manifest.get("files", {}).get(source, "")])
                          .encode()).hexdigest()[:8]
     suffix = "" if flavour == "exact" else f"-{flavour}"
@@ -219,8 +247,8 @@ def build_simd(folder: Path, manifest: dict, force: bool = False,
     if not force and (pre := _prebuilt(folder, path)):
         return pre
     if len(groups(manifest)) == 1 and len(units) == 1:  # the whole file
-        return compile_shared([src], path, SIMD_CFLAGS, force=force)
-    return compile_shared([src], path, SIMD_CFLAGS, force=force,
+        return compile_shared([src], path, simd_flags(), force=force)
+    return compile_shared([src], path, simd_flags(), force=force,
                           units=[(f"-DPLANAR_SYM_UNIT={k}",) + (("-DPLANAR_SYM_HEAD",)
                                                                  if i == 0 else ())
                                  for i, k in enumerate(units)])
