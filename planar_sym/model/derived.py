@@ -64,8 +64,13 @@ def derived_folder(description: str | Path) -> Path:
     folder = cache_dir() / "derived" / f"{desc.name}-{derivation_key(path)[:16]}"
     if (folder / "manifest.json").is_file():
         return folder
+    from ..progress import announce
     from .deriving import derive_modules
 
+    # seconds to a minute (6.6 s at 20 links, 42 s at 40): said, on a terminal (a trial
+    # waited through ps.load with no word)
+    announce(f"{desc.name}: deriving its equations from {path.name} (SymPy), once: kept in "
+             "the cache")
     derive_main = derive_modules()
     name, files = derive_main.derive_robot(path)
     if name != desc.name:  # the file changed between the two reads
