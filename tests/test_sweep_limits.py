@@ -226,6 +226,12 @@ def test_each_limit_is_named_in_its_unit_by_hand():
     assert over_limits(_Robot([_drive("j1", 0, motor_torque_limit=0.5)], ["rad"]),
                        np.array([[2.0]]), np.array([[1.2]]), np.array([1.0])) == {
         0: "j1: motor torque peak 0.6 N*m over its limit 0.5 N*m"}
+    # exactly on the margin is within, as sizing's _first_over has it (> not >=)
+    from planar_sym.dynamics.sizing import ON_LIMIT
+
+    edge = _Robot([_drive("j1", 0, torque_limit=100.0)], ["rad"])
+    assert over_limits(edge, np.ones((1, 1)), np.array([[100.0 * (1 + ON_LIMIT)]]),
+                       np.zeros(1)) == {}
 
 
 def test_a_runs_limits_are_its_sizing_or_under_control_its_events():
