@@ -72,6 +72,8 @@ class Robot:
     pin_ratio: Stats | None = None
     pin_rnea: Stats | None = None  # rnea alone, inputs packed beforehand
     pin_crba: Stats | None = None  # crba on the same packed inputs
+    pin_crba_stored: Stats | None = None  # the same, every matrix written out as ours is
+    crba_stored_ratio: Stats | None = None  # Pinocchio crba + store over our mass matrix
     pin_aba: Stats | None = None  # aba on them, fed rnea's torques
     crba_ratio: Stats | None = None  # Pinocchio crba over our mass matrix, per round
     aba_ratio: Stats | None = None  # Pinocchio aba over our forward dynamics, per round

@@ -17,7 +17,8 @@
 // REPEATS timed passes over all N samples, std::chrono::steady_clock) for the whole loop
 // (best_ns, median_ns), for rnea alone (rnea_best_ns, rnea_median_ns) and for the joint-torque
 // regressor on the same packed inputs (regressor_best_ns, regressor_median_ns), for the mass
-// matrix (crba_best_ns, crba_median_ns) and the forward dynamics (aba_best_ns, aba_median_ns,
+// matrix (crba_best_ns, crba_median_ns; with every matrix written out: crba_stored_best_ns,
+// crba_stored_median_ns) and the forward dynamics (aba_best_ns, aba_median_ns,
 // fed rnea's torques) on them, and checksums (keep those loops from being optimised away).
 // TAU_OUT.M receives every sample's mass matrix, (N, n, n) in our coordinate order and
 // symmetric (crba fills the upper triangle), and TAU_OUT.qdd aba's accelerations (N, n): the
@@ -222,17 +223,23 @@ int main(int argc, char ** argv)
       for (long s = 0; s < N; ++s)
         crba_check += pinocchio::crba(model, data, Qp.col(s))(0, model.nv - 1);
     });
-    for (long s = 0; s < N; ++s)
-    {
-      pinocchio::crba(model, data, Qp.col(s));
-      for (int i = 0; i < n; ++i)
-        for (int k = 0; k < n; ++k)
-        {
-          const int a = std::min(coords[i].iv, coords[k].iv), b = std::max(coords[i].iv,
-                                                                            coords[k].iv);
-          Mout[(s * n + i) * n + k] = data.M(a, b);
-        }
-    }
+    // the same with every sample's matrix written out, as ours is (into memory written before,
+    // where ours gets a fresh array): what a user of crba needs for N states
+    auto crba_stored_pass = [&]() {
+      for (long s = 0; s < N; ++s)
+      {
+        pinocchio::crba(model, data, Qp.col(s));
+        for (int i = 0; i < n; ++i)
+          for (int k = 0; k < n; ++k)
+          {
+            const int a = std::min(coords[i].iv, coords[k].iv), b = std::max(coords[i].iv,
+                                                                              coords[k].iv);
+            Mout[(s * n + i) * n + k] = data.M(a, b);
+          }
+      }
+    };
+    crba_stored_pass();
+    std::vector<double> crba_stored = time_passes(crba_stored_pass);
     // forward dynamics by articulated bodies, fed rnea's torques: gives the accelerations back
     double aba_check = 0.0;
     std::vector<double> aba = time_passes([&]() {
@@ -272,6 +279,8 @@ int main(int argc, char ** argv)
                 *std::min_element(bare.begin(), bare.end()), median(bare));
     std::printf("crba_best_ns %.6g\ncrba_median_ns %.6g\ncrba_check %.17g\n",
                 *std::min_element(crba.begin(), crba.end()), median(crba), crba_check);
+    std::printf("crba_stored_best_ns %.6g\ncrba_stored_median_ns %.6g\n",
+                *std::min_element(crba_stored.begin(), crba_stored.end()), median(crba_stored));
     std::printf("aba_best_ns %.6g\naba_median_ns %.6g\naba_check %.17g\n",
                 *std::min_element(aba.begin(), aba.end()), median(aba), aba_check);
     std::printf("check %.17g\n", Tp.cwiseAbs().sum());

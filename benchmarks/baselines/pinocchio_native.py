@@ -178,7 +178,8 @@ def run(urdf_path, q, qd, qdd, repeats: int = 20, gravity=None, joints=None,
     Keys: tau (N, n), best_ns, median_ns (the whole loop, per sample), rnea_best_ns,
     rnea_median_ns (rnea alone on inputs packed beforehand), regressor_best_ns,
     regressor_median_ns (``computeJointTorqueRegressor`` on the same inputs), crba_best_ns,
-    crba_median_ns (``crba`` on them) and M (N, n, n, symmetric), aba_best_ns, aba_median_ns
+    crba_median_ns (``crba`` on them), crba_stored_best_ns, crba_stored_median_ns (``crba``
+    with every matrix written out) and M (N, n, n, symmetric), aba_best_ns, aba_median_ns
     (``aba`` fed rnea's torques) and qdd (N, n, which gives qdd back), nq, nv, n.
     """
     g0, names0 = urdf_facts(urdf_path)
