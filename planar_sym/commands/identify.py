@@ -25,8 +25,9 @@ def register(sub) -> None:
                    help="an experiment kept out of the fit, to check the identified model on "
                         "(default: the first --data, which shows the fit only)")
     p.add_argument("--cutoff", type=float, default=None, metavar="HZ",
-                   help="low-pass corner for filtering and differentiating (default a tenth "
-                        "of the sampling rate)")
+                   help="low-pass corner for filtering and differentiating (default 10 times "
+                        "the highest frequency the positions carry, at most a tenth of the "
+                        "sampling rate)")
     p.add_argument("--filter", action="store_true",
                    help="filter and differentiate even where the file gives rates and "
                         "accelerations")

@@ -25,6 +25,18 @@ FILTER_ORDER = 4
 #: frequency: filtfilt's padding keeps q and qd continuous at the ends but not qdd, whose error
 #: decays from about the signal's size to 1e-4 of it over 4 such periods (measured)
 EDGE_PERIODS = 4.0
+#: the default cutoff: this many times the highest frequency the positions carry
+#: (``signal_band``), at most a tenth of the sampling rate. A cutoff far above the signal lets
+#: through noise that differentiating twice amplifies, and noise in the accelerations (the
+#: regressor's errors in variables) pulls the inertias towards zero: a trial's 6 s excitation,
+#: nothing above 0.5 Hz, 16-bit encoders, 1 % torque noise: at the former default fs / 10 =
+#: 20 Hz the shoulder's inertia came out 7.7 % low (3.9 standard deviations, every noise seed);
+#: at 10 times the band (6.7 Hz) 0.2 % (0.1 of them)
+BAND_FACTOR = 10.0
+#: the signal's band: the frequency below which this share of the positions' power about their
+#: mean lies (Hann window; the excitations' highest harmonic shows there for any share from
+#: 0.999 to 1 - 1e-6, white encoder noise holds far less)
+BAND_SHARE = 0.9999
 #: after filtering, samples are kept at this multiple of the cutoff frequency (decimation):
 #: filtered noise is correlated over about 1 / (2 cutoff), and the standard deviations of the
 #: estimate assume independent residuals (Gautier's parallel filtering and decimation)
@@ -55,7 +67,8 @@ def experiment(robot: Robot, t, q, tau, qd=None, qdd=None, *, cutoff_hz: float |
     """An ``Experiment`` from arrays (SI): ``t`` (N,) s; ``q`` every coordinate (N, n) or, for
     a closed chain, the actuated ones (N, actuated); ``tau`` (N, actuated); ``qd``, ``qdd``
     (N, n) where measured (else filtered and differentiated, ``cutoff_hz`` the low-pass
-    corner, default a tenth of the sampling rate)."""
+    corner, default ``BAND_FACTOR`` times the positions' band (``signal_band``), at most a
+    tenth of the sampling rate)."""
     where = f"{name}: " if name else ""
     t = np.asarray(t, dtype=float)
     if t.ndim != 1 or len(t) < 3 or not np.all(np.isfinite(t)):
@@ -85,7 +98,20 @@ def experiment(robot: Robot, t, q, tau, qd=None, qdd=None, *, cutoff_hz: float |
     if not np.allclose(steps, 1.0 / fs, rtol=1e-6, atol=0):
         raise InputError(f"{where}filtering and differentiating needs evenly spaced times; "
                          f"the steps range from {steps.min():.6g} to {steps.max():.6g} s")
-    cutoff = fs / 10 if cutoff_hz is None else float(cutoff_hz)
+    band = signal_band(q, fs)
+    by_band = cutoff_hz is None and 0 < BAND_FACTOR * band < fs / 10
+    if cutoff_hz is not None:
+        cutoff, chosen = float(cutoff_hz), "as asked"
+    elif by_band:
+        cutoff = BAND_FACTOR * band
+        chosen = f"{BAND_FACTOR:g} times the positions' band, {band:.3g} Hz"
+        # a short record cannot spare the ends a low corner drops: the lowest corner it can
+        shortest = EDGE_PERIODS * fs / ((len(t) - 1) / 3 - 2)
+        if cutoff < shortest:
+            cutoff = min(fs / 10, shortest)
+            chosen += f", raised to {cutoff:.3g} Hz: the record is too short for lower"
+    else:
+        cutoff, chosen = fs / 10, "a tenth of the sampling rate"
     if not 0 < cutoff < fs / 2:
         raise InputError(f"{where}cutoff_hz must be between 0 and half the sampling rate "
                          f"({fs / 2:.6g} Hz), got {cutoff_hz}")
@@ -108,9 +134,25 @@ def experiment(robot: Robot, t, q, tau, qd=None, qdd=None, *, cutoff_hz: float |
         act = list(robot.actuated)
         qf = solve_passive(robot, qf[:, act], q_guess=qf[0], t=t[keep])
         qd, qdd = complete_rates(robot, qf, qd[:, act], qdd[:, act])
-    notes.append(f"positions and torques low-pass filtered at {cutoff:.4g} Hz (Butterworth, "
+    notes.append(f"positions and torques low-pass filtered at {cutoff:.4g} Hz ({chosen}; "
+                 f"Butterworth, "
                  f"order {FILTER_ORDER}, forward and backward: zero phase); rates and "
                  f"accelerations by central differences; {edge} samples ({edge / fs:.3g} s) dropped at "
                  f"each end; every {step} kept ({fs / step:.4g} Hz, {KEEP_RATE:g} times the cutoff: the "
                  "filtered noise stays about independent from sample to sample)")
     return Experiment(t[keep], qf, qd, qdd, tf[keep], name, tuple(notes))
+
+
+def signal_band(q: np.ndarray, fs: float) -> float:
+    """The highest frequency (Hz) the positions ``q`` (N, n), sampled at ``fs`` Hz, carry: per
+    coordinate the frequency below which ``BAND_SHARE`` of its power about its mean lies (Hann
+    window), the largest over the coordinates that move (0 where none does)."""
+    x = q - q.mean(axis=0)
+    power = np.abs(np.fft.rfft(x * np.hanning(len(x))[:, None], axis=0)) ** 2
+    total = power.sum(axis=0)
+    freq = np.fft.rfftfreq(len(x), 1.0 / fs)
+    moving = total > 0
+    if not np.any(moving):
+        return 0.0
+    share = np.cumsum(power[:, moving], axis=0) / total[moving]
+    return float(max(freq[np.argmax(col >= BAND_SHARE)] for col in share.T))
