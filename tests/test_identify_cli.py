@@ -255,8 +255,8 @@ def test_an_excitation_left_over_its_torque_limit_says_so(monkeypatch):
     module = sys.modules[excite.__module__]  # (the package's name excite is the function)
     robot = ps.load(TEST_ROBOTS / "pend_lim.toml")
     limits = default_limits(robot, speed=6.0, acceleration=60.0)
+    monkeypatch.setattr(module, "SHRINKS", 0)
     with pytest.warns(RuntimeWarning) as caught:
-        monkeypatch.setattr(module, "SHRINKS", 0)
         excite(robot, 2.0, 4, limits=limits)
     text = " ".join(str(w.message) for w in caught)
     match = re.search(r"j1 needs ([\d.]+) N\*m, over its limit 1\.2 N\*m by ([\d.e-]+) %", text)
