@@ -93,8 +93,14 @@ def write_result(st, result, out: Path, split: bool = False, npz: bool = False,
     o = st.outputs
     paths = write(result, out, split=split or o.split, csv=o.csv, plot=o.plot, npz=npz)
     if o.animation:
-        paths.append(animate_study(st, out / f"{st.name}.{o.animation}", o.frames,
-                                   quiet=quiet))
+        import warnings
+
+        # the animation runs the study again at its frames: what that run would warn, the run
+        # above has said once already (one mistake, one message)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            paths.append(animate_study(st, out / f"{st.name}.{o.animation}", o.frames,
+                                       quiet=quiet))
     return result, paths
 
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..control.track import Tracked, Tracking, track
 from ..dynamics.events import coordinate_index
-from ..errors import InputError
+from ..errors import InputError, warn_caller
 from ..model.robot import Robot
 from ..motion.signals import from_motion, from_table
 from . import spec as specs
@@ -46,6 +46,7 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
         jt, tau = move.trajectory, move.tau
     else:
         jt, _ = joint_motion(st, robot)
+    _warn_unheld(st, robot, jt)
     # one rule for every control study: a run cut short of its move stopped mid-move in silence
     move_s = float(jt.t_s[-1] - jt.t_s[0])
     if cs.duration_s is not None and cs.duration_s < move_s * (1 - 1e-9):
@@ -67,6 +68,30 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
     if found:  # what the move is: the plan the law tracks
         result = replace(result, note=f"{found}; {result.note}", timing=found)
     return result
+
+
+def _warn_unheld(st: specs.Study, robot: Robot, jt) -> None:
+    """Warn where the study asks what the law cannot do, and would otherwise pass in silence:
+    ``saturate = true`` on joints with no actuator limit to clip at (a trial's cart-pole pushed
+    0.273 N against its study's 0.2 N), and a reference moving a tree's passive joint, which a
+    PD or computed-torque law does not hold (the pole told to turn 45 degrees fell to 211)."""
+    where = f"{st.path or st.name}"
+    if st.control.saturate_asked:
+        free = [d.joint for d in robot.drive_train.drives
+                if d.torque_limit is None and d.motor_torque_limit is None]
+        if free:
+            warn_caller(f"{where}: control.saturate = true, but {', '.join(free)} "
+                        f"{'has' if len(free) == 1 else 'have'} no actuator limit to clip at "
+                        "(torque_limit or motor_torque_limit under the description's "
+                        "[joints.actuator]): not clipped")
+    if st.control.law in ("pd", "computed_torque") and not robot.is_closed_chain:
+        moved = [robot.coordinates[i] for i in range(robot.n) if i not in robot.actuated
+                 and np.ptp(jt.q[:, i]) > 1e-9 * max(1.0, float(np.abs(jt.q[:, i]).max()))]
+        if moved:
+            warn_caller(f"{where}: the motion moves the passive {', '.join(moved)}, which law "
+                        f"\"{st.control.law}\" does not hold (it drives the actuated joints "
+                        "only): the passive coordinates go where the dynamics take them; law "
+                        "\"lqr\" feeds them back")
 
 
 def _weights(st: specs.Study, robot: Robot, key: str):

@@ -84,6 +84,7 @@ class ControlSpec:
     plant: dict[str, tuple[float, str | None]] = field(default_factory=dict)
     q_weight: tuple[float, ...] | None = None
     r_weight: tuple[float, ...] | None = None
+    saturate_asked: bool = False  # the file says saturate = true (not only the default)
 
 
 @dataclass(frozen=True)
@@ -149,7 +150,7 @@ def parse_control(c: Checker, tbl: dict, parameters) -> ControlSpec | None:
         return None
     return ControlSpec(law, kp, kd, freq, damping, saturate, duration, samples, start_error,
                        torque, method, rtol, atol, plant, weights["q_weight"],
-                       weights["r_weight"])
+                       weights["r_weight"], saturate_asked=bool(saturate and "saturate" in tbl))
 
 
 def _number(v) -> bool:
