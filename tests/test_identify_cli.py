@@ -262,3 +262,43 @@ def test_an_excitation_left_over_its_torque_limit_says_so(monkeypatch):
     match = re.search(r"j1 needs ([\d.]+) N\*m, over its limit 1\.2 N\*m by ([\d.e-]+) %", text)
     assert match, text
     assert float(match.group(1)) >= 1.2 and float(match.group(2)) > 0
+
+
+def test_two_columns_of_one_coordinate_are_refused_and_rates_alone_are_said(tmp_path, capsys):
+    """A trial's files: q1_rad beside a q1_deg 30 degrees off was read as q1_rad with no word;
+    rates without accelerations were dropped with no word (the note said both came from
+    central differences)."""
+    robot = ps.load("serial_2dof")
+    t = np.arange(0.0, 6.0, 0.005)
+    q = np.column_stack([0.5 * np.sin(2 * np.pi * t / 6), 1.0 + 0.4 * np.sin(4 * np.pi * t / 6)])
+    qd, qdd = np.gradient(q, t, axis=0), np.gradient(np.gradient(q, t, axis=0), t, axis=0)
+    tau = robot.inverse_dynamics(q, qd, qdd)
+
+    def write(name, cols):
+        path = tmp_path / name
+        np.savetxt(path, np.column_stack([c for _, c in cols]), delimiter=",", comments="",
+                   header=",".join(h for h, _ in cols))
+        return path
+
+    base = [("t_s", t), ("q1_rad", q[:, 0]), ("q2_rad", q[:, 1]), ("tau1_n_m", tau[:, 0]),
+            ("tau2_n_m", tau[:, 1])]
+    both = write("both.csv", base[:2] + [("q1_deg", np.degrees(q[:, 0]) + 30)] + base[2:])
+    assert main(["identify", "serial_2dof", "--data", str(both), "--out",
+                 str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err
+    assert "columns q1_rad and q1_deg both give coordinate 1: keep one" in err
+    assert not (tmp_path / "a").exists()  # refused before anything is written
+    rates = write("rates.csv", base + [("qd1_rad_s", qd[:, 0]), ("qd2_rad_s", qd[:, 1])])
+    assert main(["identify", "serial_2dof", "--data", str(rates), "--out",
+                 str(tmp_path / "b")]) == 0
+    err = capsys.readouterr().err
+    assert err.count("rates are given without accelerations (both are needed") == 1, err
+
+
+def test_excite_refuses_a_tree_with_a_passive_joint_for_that_reason(tmp_path, capsys):
+    """A trial's cart-pole: the search found nothing and said "widen the limits"."""
+    out = tmp_path / "exc.toml"
+    assert main(["excite", "cart_pole", "--duration", "2", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "cart_pole: hinge is passive: an exciting motion is imposed on every joint" in err
+    assert "widen" not in err and not out.exists()

@@ -57,6 +57,11 @@ def read_experiment(robot: Robot, path: str | Path, cutoff_hz: float | None = No
         warn_caller(f"{path}: columns {', '.join(other)} are of coordinates {robot.name} does "
                     f"not have (it has {robot.n}): data of another robot?")
     every, act = range(robot.n), list(robot.actuated)
+    for i in every:  # q1_rad beside q1_deg: the first was read and the other ignored
+        both = [n for n in names("q", i) if n in header]
+        if len(both) > 1:
+            raise InputError(f"{path}: columns {' and '.join(both)} both give coordinate "
+                             f"{i + 1}: keep one")
     q_coords = every if present("q", every) or not robot.is_closed_chain else act
     columns = [names("q", i) for i in q_coords] + [names("tau", i) for i in act]
     t, values = read_table(path, columns)  # every problem of the file at once, SI
@@ -67,6 +72,11 @@ def read_experiment(robot: Robot, path: str | Path, cutoff_hz: float | None = No
                          "column is in s)")
     nq = len(q_coords)
     q, tau = values[:, :nq], values[:, nq:]
+    if not filtered and present("qd", every) != present("qdd", every):
+        given, missing = ("rates", "accelerations") if present("qd", every) else (
+            "accelerations", "rates")
+        warn_caller(f"{path}: {given} are given without {missing} (both are needed to use "
+                    "them): left unused, both filtered and differentiated from the positions")
     if not filtered and present("qd", every) and present("qdd", every):
         rates = _plain_columns(path, header, [names("qd", i)[0] for i in every]
                                + [names("qdd", i)[0] for i in every])

@@ -121,6 +121,14 @@ def excite(robot: Robot, duration_s: float, harmonics: int = 5, *, limits: Limit
         raise InputError(f"duration must be a positive number of seconds, got {duration_s}")
     if not (isinstance(harmonics, int) and 1 <= harmonics <= 20):
         raise InputError(f"harmonics must be an integer from 1 to 20, got {harmonics}")
+    if not robot.is_closed_chain and len(robot.actuated) < robot.n:
+        # the search found no motion and said "widen the limits" (a trial's cart-pole)
+        passive = [robot.coordinates[i] for i in range(robot.n) if i not in robot.actuated]
+        raise InputError(f"{robot.name}: {', '.join(passive)} {'is' if len(passive) == 1 else 'are'} "
+                         "passive: an exciting motion is imposed on every joint of a tree, "
+                         "and a passive joint moves as the dynamics take it. Run the robot "
+                         "under input torques instead (a forward study with a torque table) "
+                         "and identify from that run's CSV")
     limits = limits or default_limits(robot)
     base = base or base_parameters(robot)
     act = list(robot.actuated)
