@@ -392,7 +392,8 @@ def test_a_closed_chain_started_off_its_loops_is_refused_not_projected():
     """Catches the start of a closed chain projected onto the loops instead of checked
     (simulate_controlled's initial_state(..., False)): the five-bar's drawn pose with its
     passive joint B turned 0.05 rad opens the loop (|Phi| > 1 mm, computed here), and the
-    run is refused, naming q0 and the way to project."""
+    run is refused, naming q0 and what to do on this route (it has no project=True, which the
+    message once offered: a trial)."""
     five = ps.load("five_bar_type1")
     q0 = five.q_drawn + np.array([0.0, 0.05, 0.0, 0.0])
     assert np.max(np.abs(five.constraint(q0))) > 1e-3
@@ -400,8 +401,9 @@ def test_a_closed_chain_started_off_its_loops_is_refused_not_projected():
         simulate_controlled(five, Controller("none"), (0.0, 0.1), q0=q0)
     assert str(err.value).startswith("five_bar_type1: q0 is off the loop constraints: ")
     assert str(err.value).endswith("give a state on the loops (planar_sym.from_actuated), or "
-                                   "pass project=True (planar_sym.simulate) to solve the passive "
-                                   "joints from the actuated ones")
+                                   "leave q0 out to start on the reference (off it: track's "
+                                   "start_error, on the actuated joints, keeps the loops "
+                                   "closed)")
 
 
 def test_an_lqr_law_with_a_reference_of_the_wrong_size_is_refused():

@@ -85,7 +85,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         ``friction_j``, ``controller``, ``events``. Raises InputError for bad input, including
         an event that fires at the start.
     """
-    from .forward_closed import initial_state
+    from .forward_closed import CONTROLLED_HINT, initial_state
     from .integrate import check_tolerances, time_grid
 
     if not isinstance(robot, Robot):
@@ -127,7 +127,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
                              "the passive joints start")
     q0, qd0 = as_state(q0, qd0, n)
     if robot.is_closed_chain:
-        q0, qd0 = initial_state(plant, q0, qd0, False)
+        q0, qd0 = initial_state(plant, q0, qd0, False, hint=CONTROLLED_HINT)
     specs = joint_limit_events(robot, joint_limits, on_joint_limit)
     act_specs, bound = actuator_events(plant, on_actuator_limit)
     specs += act_specs

@@ -212,10 +212,10 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
 
     n = robot.n
     correction = 0.0
-    if robot.is_closed_chain and project:
+    if robot.is_closed_chain:  # checked here, so a state off the loops hears of project=True
         from .forward_closed import initial_state
 
-        q_on, qd0 = initial_state(robot, q0, qd0, project_state=True)
+        q_on, qd0 = initial_state(robot, q0, qd0, project_state=project)
         correction, q0 = float(np.max(np.abs(q_on - q0))), q_on
     act = list(robot.actuated)
     run = simulate_controlled(robot, Controller("none"), t_span, q0=q0, qd0=qd0, torque=torque,

@@ -46,9 +46,18 @@ def project(robot: Robot, q, qd) -> tuple[np.ndarray, np.ndarray]:
     return q, qd
 
 
-def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: bool
-                  ) -> tuple[np.ndarray, np.ndarray]:
-    """The user's initial state, checked on the loops; or, asked, its passive joints solved."""
+#: what a state off the loops is told to do, by route (simulate_controlled has no project)
+PROJECT_HINT = ("give a state on the loops (planar_sym.from_actuated), or pass project=True "
+                "(planar_sym.simulate) to solve the passive joints from the actuated ones")
+CONTROLLED_HINT = ("give a state on the loops (planar_sym.from_actuated), or leave q0 out to "
+                   "start on the reference (off it: track's start_error, on the actuated "
+                   "joints, keeps the loops closed)")
+
+
+def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: bool,
+                  hint: str = PROJECT_HINT) -> tuple[np.ndarray, np.ndarray]:
+    """The user's initial state, checked on the loops (``hint`` says what to do instead); or,
+    asked, its passive joints solved."""
     if project_state:
         act = list(robot.actuated)
         return complete_state(robot, q0[act], qd0[act], q_guess=q0)
@@ -61,9 +70,7 @@ def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: 
         except InputError as exc:
             raise InputError(str(exc).replace("sample 0", label, 1).replace(
                 "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)",
-                "give a state on the loops (planar_sym.from_actuated), or pass "
-                "project=True (planar_sym.simulate) to solve the passive joints from the actuated "
-                "ones")) from None
+                hint)) from None
     return q0.copy(), qd0.copy()
 
 
