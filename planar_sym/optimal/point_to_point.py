@@ -64,6 +64,25 @@ class OptimalMove:
     objective: float
     solver: dict
 
+    def sampled_at(self, robot: Robot, t) -> JointTrajectory:
+        """The move at times ``t`` (N,) in s, clipped to it: exact on its constant-acceleration
+        intervals, q, qd, qdd each (N, n) in rad, rad/s, rad/s^2 (m at a slider); a closed
+        chain's passive joints from the loops (``from_actuated``), in the mode of the first
+        node of the first sample's interval."""
+        jt = self.trajectory
+        t = np.clip(np.asarray(t, dtype=float), jt.t_s[0], jt.t_s[-1])
+        k = np.clip(np.searchsorted(jt.t_s, t, side="right") - 1, 0, len(jt.t_s) - 2)
+        dt = (t - jt.t_s[k])[:, None]
+        acc = jt.qdd[k]
+        q = jt.q[k] + jt.qd[k] * dt + acc * dt**2 / 2
+        qd = jt.qd[k] + acc * dt
+        if not robot.is_closed_chain:
+            return JointTrajectory(t, q, qd, acc, jt.solver)
+        from ..motion.closure import from_actuated
+
+        act = list(robot.actuated)
+        return from_actuated(robot, t, q[:, act], qd[:, act], acc[:, act], q_guess=jt.q[k[0]])
+
 
 def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
                  duration_s: float | None = None, torque_limit=None, speed_limit=None,

@@ -118,12 +118,11 @@ def plant_of(st: specs.Study, robot: Robot) -> Robot | None:
 def _optimal(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     """The optimal move run as an inverse study runs its motion (at its nodes, or at
     ``samples`` evenly spaced times); a tree with a passive joint: the move itself."""
-    from .optimal_run import plan, plan_motion
+    from .optimal_run import plan_motion
 
-    move, found = plan(st, robot)
     # a tree with a passive joint: the solver's nodes (between them the joint is not free)
     nodes = not (robot.is_closed_chain or len(robot.actuated) == robot.n)
-    jt, x = plan_motion(st, robot, None if nodes else samples)
+    jt, x, move, found = plan_motion(st, robot, None if nodes else samples)
     if not nodes:
         return _inverse(st, robot, jt, x, found)
     data = _motion_series(robot, jt, x)
@@ -281,7 +280,7 @@ def motion_and_reference(study: str | Path | specs.Study, frames: int
     if st.kind == "optimal":
         from .optimal_run import plan_motion
 
-        jt, _ = plan_motion(st, robot, frames)
+        jt, *_ = plan_motion(st, robot, frames)
         return robot, jt.t_s, jt.q, None
     if st.optimise is None:
         jt, _ = joint_motion(st, robot, frames)
