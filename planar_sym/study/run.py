@@ -7,9 +7,10 @@ rate ``qd<k>_rad_s`` and, for inverse dynamics, acceleration ``qdd<k>_rad_s2`` (
 robot's coordinates, passive joints of closed chains included); the torque at each actuated
 coordinate ``tau<k>_n_m`` (same k); for closed chains the reaction force at each cut joint
 ``fx_<joint>_n``, ``fy_<joint>_n`` (N, world axes, on the cut joint's parent body); for inverse
-dynamics every joint's load (``load_series``: ``jfx_<joint>_n``, ``jfy_<joint>_n``,
-``jload_<joint>_n``, ``jm_<joint>_n_m``, ``jfn_<joint>_n``, the parent body on the child body)
-and the power ``p<k>_w``; for forward dynamics ``energy_j``.
+dynamics (the series ``dynamics.along.inverse_series`` makes, as tau and f* above) every joint's
+load (``jfx_<joint>_n``, ``jfy_<joint>_n``, ``jload_<joint>_n``, ``jm_<joint>_n_m``,
+``jfn_<joint>_n``, the parent body on the child body) and the power ``p<k>_w``; for forward
+dynamics ``energy_j``.
 """
 
 from __future__ import annotations
