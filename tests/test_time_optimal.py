@@ -17,7 +17,7 @@ from scipy.sparse import coo_matrix
 import planar_sym as ps
 from planar_sym.errors import InputError
 from planar_sym.motion.closure import from_actuated
-from planar_sym.optimal.time_optimal import _torques, arc_length_path
+from planar_sym.optimal.time_optimal import arc_length_path
 
 
 def _s3():
@@ -30,6 +30,13 @@ def _s5():
     fb = ps.load("five_bar_type1")
     t = np.linspace(0.0, 2.0, 201)
     return fb, ps.inverse_kinematics(fb, ps.cubic([0.060852, 0.154665], [0.05, 0.0], 2.0, t))
+
+
+def _torques(robot, q, qd, qdd):
+    """The actuated torques (N, actuated) at these states, straight from the robot."""
+    if robot.is_closed_chain:
+        return robot.closed_chain_inverse_dynamics(q, qd, qdd)[0]
+    return robot.inverse_dynamics(q, qd, qdd)
 
 
 def _lp(robot, path, lim):

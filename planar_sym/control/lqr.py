@@ -28,12 +28,15 @@ from ..model.robot import Robot
 class LQR:
     """``gain`` K (actuated, 2n): N*m per rad and per rad/s (N per m, per m/s at a slider);
     ``riccati`` P (2n, 2n); ``poles`` (2n,) of A - B K in 1/s, each with a negative real part;
-    ``linearization`` the model it was designed on."""
+    ``linearization`` the model it was designed on; ``q_weight`` Q (2n, 2n) and ``r_weight``
+    R (actuated, actuated), the weights it was designed with, as matrices (checked, SI)."""
 
     gain: np.ndarray
     riccati: np.ndarray
     poles: np.ndarray
     linearization: Linearization
+    q_weight: np.ndarray | None = None
+    r_weight: np.ndarray | None = None
 
     def controller(self, saturate: bool = True) -> Controller:
         """The law for ``simulate_controlled``: tau = u_ref + K (x_ref - x), clipped at the
@@ -59,10 +62,13 @@ def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
     """
     from scipy.linalg import solve_continuous_are
 
-    lin = linearize(robot, q, qd, tau)
-    n2, na = lin.b.shape
-    qm = _weight("q_weight", q_weight, n2, definite=False)
+    # the weights checked first, against the state linearize gives: every coordinate of a
+    # tree, a closed chain's actuated ones (the loops set the others)
+    na = len(robot.actuated)
+    held = na if robot.is_closed_chain else robot.n
+    qm = _weight("q_weight", q_weight, 2 * held, definite=False)
     rm = _weight("r_weight", r_weight, na, definite=True)
+    lin = linearize(robot, q, qd, tau)
     scale = max(float(np.abs(lin.a).max()), 1.0)
     if np.abs(lin.qdd).max() > 1e-9 * scale:
         raise InputError(f"{robot.name}: not an equilibrium (qdd = {lin.qdd.tolist()} there): "
@@ -79,7 +85,7 @@ def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
     if not np.all(poles.real < 0):
         raise InputError(f"{robot.name}: the LQR loop is not stable (poles {poles}): weight "
                          "every state that can drift (q_weight)")
-    return LQR(k, p, poles, lin)
+    return LQR(k, p, poles, lin, qm, rm)
 
 
 def _weight(name: str, w, size: int, definite: bool) -> np.ndarray:

@@ -38,7 +38,7 @@ from ..errors import InputError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal
-from .lqr import LQR, _weight, lqr
+from .lqr import LQR, lqr
 
 #: the Riccati equation's tolerances (relative, absolute on P's entries)
 RTOL, ATOL = 1e-8, 1e-10
@@ -152,8 +152,7 @@ def tvlqr(robot: Robot, motion: JointTrajectory, tau, *, q_weight, r_weight,
     lins = [linearize(robot, q, qd, u) for q, qd, u in zip(motion.q, motion.qd, tau)]
     a, b = np.stack([x.a for x in lins]), np.stack([x.b for x in lins])
     k2 = a.shape[1]
-    qm = _weight("q_weight", q_weight, k2, definite=False)
-    rm = _weight("r_weight", r_weight, na, definite=True)
+    qm, rm = hold.q_weight, hold.r_weight  # checked by lqr, for this state and these motors
     r_inv = np.linalg.inv(rm)
 
     def ab(s: float):

@@ -1,7 +1,8 @@
 """Everything inverse dynamics says along one joint motion, in one typed value: the actuated
 torques, the cut-joint forces of a closed chain, every joint's load, the torque split, the
-power and what each actuator must deliver. A study turns it into series; the API gets it from
-``inverse_along`` in one call (each quantity computed once, from the same samples)."""
+power and what each actuator must deliver. The API gets it from ``inverse_along`` in one call
+(each quantity computed once, from the same samples); ``inverse_series`` gives its typed series,
+the columns a study writes."""
 
 from __future__ import annotations
 
@@ -14,7 +15,8 @@ from ..model.arrays import as_samples
 from ..model.loops import warn_near_singular
 from ..model.robot import Robot
 from .inverse import torque_split
-from .reactions import JointLoads, joint_loads
+from .reactions import JointLoads, joint_loads, load_series
+from .series import Series
 from .sizing import ActuatorSizing, size
 
 
@@ -80,3 +82,20 @@ def inverse_along(robot: Robot, t_s, q, qd, qdd) -> InverseAlong:
                         sizing=size(robot, t, qd, tau),
                         power_w=tau * np.asarray(qd)[:, act],
                         loop_residual_m=residual)
+
+
+def inverse_series(robot: Robot, inv: InverseAlong) -> list[Series]:
+    """``inv`` as typed series, in the order a study's columns have them: the torque ``tau``
+    (N*m; N at a slider) of each actuated coordinate; a closed chain's cut-joint forces ``fx``,
+    ``fy`` (N, world axes, on the cut joint's parent body) of each loop; every joint's load
+    (``reactions.load_series``: a joint with an actuator model shows its link-side couple);
+    the power ``p`` (W) each actuator delivers. Each series has shape (N,)."""
+    units = robot.coordinate_units
+    data = [Series.of_coordinate("tau", i, units[i], inv.tau[:, k])
+            for k, i in enumerate(robot.actuated)]
+    for k, loop in enumerate(robot.loops):
+        data += [Series("fx", "N", inv.cut_forces[:, 2 * k], joint=loop),
+                 Series("fy", "N", inv.cut_forces[:, 2 * k + 1], joint=loop)]
+    data += load_series(inv.loads, {d.joint for d in robot.drive_train.drives if d.modelled})
+    return data + [Series("p", "W", inv.power_w[:, k], index=i)
+                   for k, i in enumerate(robot.actuated)]

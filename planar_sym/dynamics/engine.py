@@ -28,7 +28,7 @@ from .engine_c import MAX_EVENTS_LOGGED, _array, _functions, _Setup, control_val
 from .engine_inputs import _reference, _torque_input, check_controller
 from .events import Event, actuator_events, joint_limit_events, output_events
 from .laws import Controller
-from .run_result import Simulation, labels
+from .run_result import Simulation
 from .segments import run_segments
 from .watched import call_watched
 
@@ -175,14 +175,15 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     if robot.is_closed_chain:
         events += assembly_changes(plant, t_out, q)
     cmd, app, _ = control_values(robot, setup, t_out, ys)
-    kin, pot = plant.energy(q, qd)
     q_ref, qd_ref = _held(controller, ref, t_out, n, act)
     if q_ref is None:  # open loop: no reference, no error
         q_ref, qd_ref = q[:, act], qd[:, act]
-    return Simulation(t_out, q, qd, app, kin, pot, method, rtol, atol, n_rhs, drift,
-                      **labels(robot), q_ref=q_ref, qd_ref=qd_ref, tau_cmd=cmd,
-                      work_j=ys[:, 2 * n], friction_j=ys[:, 2 * n + 1], controller=controller,
-                      events=tuple(sorted(events, key=lambda e: e.time_s)))
+    # the plant's energies; its labels are the model's (the same description)
+    return Simulation.of_robot(plant, t_out, q, qd, app, method, rtol, atol, n_rhs,
+                               constraint_drift_m=drift, q_ref=q_ref, qd_ref=qd_ref,
+                               tau_cmd=cmd, work_j=ys[:, 2 * n], friction_j=ys[:, 2 * n + 1],
+                               controller=controller,
+                               events=tuple(sorted(events, key=lambda e: e.time_s)))
 
 
 def _held(ctl: Controller, ref: Signal | None, t: np.ndarray, n: int, act: list[int]):

@@ -35,7 +35,6 @@ from .integrate import (
     check_tolerances,
     check_torque,
     dopri5,
-    labels,
     time_grid,
     torque_function,
 )
@@ -148,9 +147,8 @@ def _outside_the_engine(robot: Robot, q0, qd0, torque, tau_of, t, rtol, atol, me
         fd = robot.library.address("forward_dynamics")
         y, n_rhs = dopri5(robot, 0, fd, x0, t, tau_of(t[0]), rtol, atol, max_steps)
         q, qd = y[:, :n].copy(), y[:, n:].copy()
-        kin, pot = robot.energy(q, qd)
-        return Simulation(t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), kin, pot, method,
-                          rtol, atol, n_rhs, **labels(robot))
+        return Simulation.of_robot(robot, t, q, qd, np.tile(tau_of(t[0]), (len(t), 1)), method,
+                                   rtol, atol, n_rhs)
     method = "DOP853" if method == "dopri5" else method
     if method not in SCIPY_METHODS:
         raise InputError(f"unknown method {method!r}; known: dopri5, cvodes, idas, "
@@ -183,9 +181,8 @@ def _outside_the_engine(robot: Robot, q0, qd0, torque, tau_of, t, rtol, atol, me
         raise SimulationError(f"{robot.name}: integration failed at t = {last_t[0]:.6g} s: "
                               f"{sol.message}")
     q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
-    kin, pot = robot.energy(q, qd)
     taus = np.array([tau_of(tt) for tt in t])
-    return Simulation(t, q, qd, taus, kin, pot, method, rtol, atol, count[0], **labels(robot))
+    return Simulation.of_robot(robot, t, q, qd, taus, method, rtol, atol, count[0])
 
 
 def _on_actuated(tau_of, robot: Robot):

@@ -14,7 +14,6 @@ from .integrate import (
     SCIPY_METHODS,
     Simulation,
     dopri5,
-    labels,
     time_grid,
     torque_function,
 )
@@ -181,10 +180,9 @@ def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, 
         k = end
     qa, qda = np.array(qs), np.array(qds)
     drift = float(np.max(np.abs(robot.constraint(qa))))
-    kin, pot = robot.energy(qa, qda)
     taus = np.array([tau_of(tt) for tt in t])
-    return Simulation(t, qa, qda, taus, kin, pot, method, rtol, atol, count[0], drift,
-                      correction, **labels(robot))
+    return Simulation.of_robot(robot, t, qa, qda, taus, method, rtol, atol, count[0],
+                               constraint_drift_m=drift, initial_correction_rad=correction)
 
 
 def kkt_accelerations(robot: Robot, q, qd, tau_act) -> np.ndarray:

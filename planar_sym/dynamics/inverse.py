@@ -77,8 +77,9 @@ def torque_split(robot: Robot, q, qd, qdd, t=None) -> dict[str, np.ndarray]:
     # a closed chain's torques come through [S^T Phi_q^T] (refused by time where singular)
     a = actuation_matrix(robot, q, t) if robot.is_closed_chain else None
     drives = robot.drive_train
-    links = robot.with_parameters(**{f"jm_{d.joint}": 0.0 for d in drives.drives
-                                     if d.rotor_inertia}) if drives.has_rotors else robot
+    links = robot.with_values(robot.parameters.replace(
+        **{f"jm_{d.joint}": 0.0 for d in drives.drives if d.rotor_inertia})
+    ) if drives.has_rotors else robot
     mass = links.mass_matrix(q).reshape(n_s, n, n)
     h = links.bias(q, qd).reshape(n_s, n)
     g = links.gravity(q).reshape(n_s, n)

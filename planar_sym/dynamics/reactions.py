@@ -49,6 +49,7 @@ from ..errors import InputError, LibraryError
 from ..model.arrays import as_samples
 from ..model.description import GROUND
 from ..model.robot import Robot
+from .series import Series
 
 
 @dataclass(frozen=True)
@@ -244,3 +245,23 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
     drive = {d.joint: tau[:, d.coordinate] for d in drives}
     motor = {d.joint: tau[:, d.coordinate] / d.gear_ratio for d in drives}
     return JointLoads(s.names, s.types, force, couple, axial, normal, drive, motor)
+
+
+def load_series(loads: JointLoads, driven: set[str] = frozenset()) -> list[Series]:
+    """Every joint's load as series of that ``joint``: ``jfx``, ``jfy`` (N, world axes, the
+    parent body on the child body; columns ``jfx_<joint>_n``), ``jload`` (|F|, the bearing
+    load); the reaction couple ``jm`` (N*m) of welds and prismatic joints, and of the revolute
+    joints in ``driven`` (with an actuator model: the gearbox's output the link feels, less
+    friction and rotor than the torque; without one a revolute joint's couple is its torque,
+    or 0 if passive); a prismatic joint's normal force ``jfn`` (N)."""
+    out = []
+    load = loads.magnitude
+    for i, (name, kind) in enumerate(zip(loads.names, loads.types)):
+        out += [Series("jfx", "N", loads.force[:, i, 0], joint=name),
+                Series("jfy", "N", loads.force[:, i, 1], joint=name),
+                Series("jload", "N", load[:, i], joint=name)]
+        if kind in ("weld", "prismatic") or (kind == "revolute" and name in driven):
+            out.append(Series("jm", "N*m", loads.couple[:, i], joint=name))
+        if kind == "prismatic":
+            out.append(Series("jfn", "N", loads.normal[name], joint=name))
+    return out

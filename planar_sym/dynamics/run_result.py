@@ -97,6 +97,17 @@ class Simulation:
     controller: Controller | None = None
     events: tuple[Event, ...] = ()
 
+    @classmethod
+    def of_robot(cls, robot, t_s: np.ndarray, q: np.ndarray, qd: np.ndarray, tau: np.ndarray,
+                 method: str, rtol: float, atol: float, n_rhs: int, **fields) -> Simulation:
+        """A run of ``robot`` (the machine that moved) at times ``t_s`` (N,) in s: ``q``, ``qd``
+        (N, n) in rad, rad/s (m, m/s at a slider), ``tau`` as the attribute holds it; its
+        labels (``labels``) and its kinetic and potential energy (J) at every sample made here,
+        the one place every route makes them; ``fields``: the other attributes."""
+        named = labels(robot)
+        kin, pot = robot.energy(q, qd)
+        return cls(t_s, q, qd, tau, kin, pot, method, rtol, atol, n_rhs, **named, **fields)
+
     @property
     def controlled(self) -> bool:
         """Whether a controller ran (``simulate_controlled``): the control fields are set."""

@@ -58,6 +58,8 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     act, pas = partition(robot)
     loops = _Loops(robot, act, pas)
     q_act = as_samples("q_act", q_act, len(act), times=t)
+    if q_guess is not None:  # checked here, once: _first is also entered again without one
+        q_guess = as_vector("q_guess", q_guess, robot.n)
     pose = _first(loops, q_act[0], q_guess, t)
     out = np.empty((len(q_act), robot.n))
     out[0] = pose.q
@@ -73,12 +75,11 @@ def _first(loops: _Loops, qa: np.ndarray, q_guess, t) -> _Pose:
     angles straight at a crank 240 degrees away closed the slider-crank in its other mode (the
     slider on the far side of the pivot, 7% off in torque) without a word, so a guess whose
     passive coordinates are the drawn ones (``simulate(project=True)`` from ``q_drawn`` with
-    the crank turned) is no guess. A drawn pose that is itself singular is left to Newton."""
+    the crank turned) is no guess. A drawn pose that is itself singular is left to Newton.
+    ``q_guess`` (n,) is checked already (``solve_passive``)."""
     robot, act, pas = loops.robot, loops.act, loops.pas
-    if q_guess is not None:
-        q_guess = as_vector("q_guess", q_guess, robot.n)
-        if np.array_equal(q_guess[pas], robot.q_drawn[pas]):
-            q_guess = None
+    if q_guess is not None and np.array_equal(q_guess[pas], robot.q_drawn[pas]):
+        q_guess = None
     if q_guess is not None:
         return _guessed(loops, qa, np.array(q_guess, dtype=float), t)
     q = np.array(robot.q_drawn, dtype=float)

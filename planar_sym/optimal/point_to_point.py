@@ -64,6 +64,25 @@ class OptimalMove:
     objective: float
     solver: dict
 
+    def sampled_at(self, robot: Robot, t) -> JointTrajectory:
+        """The move at times ``t`` (N,) in s, clipped to it: exact on its constant-acceleration
+        intervals, q, qd, qdd each (N, n) in rad, rad/s, rad/s^2 (m at a slider); a closed
+        chain's passive joints from the loops (``from_actuated``), in the mode of the first
+        node of the first sample's interval."""
+        jt = self.trajectory
+        t = np.clip(np.asarray(t, dtype=float), jt.t_s[0], jt.t_s[-1])
+        k = np.clip(np.searchsorted(jt.t_s, t, side="right") - 1, 0, len(jt.t_s) - 2)
+        dt = (t - jt.t_s[k])[:, None]
+        acc = jt.qdd[k]
+        q = jt.q[k] + jt.qd[k] * dt + acc * dt**2 / 2
+        qd = jt.qd[k] + acc * dt
+        if not robot.is_closed_chain:
+            return JointTrajectory(t, q, qd, acc, jt.solver)
+        from ..motion.closure import from_actuated
+
+        act = list(robot.actuated)
+        return from_actuated(robot, t, q[:, act], qd[:, act], acc[:, act], q_guess=jt.q[k[0]])
+
 
 def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
                  duration_s: float | None = None, torque_limit=None, speed_limit=None,
@@ -156,6 +175,7 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
     own = act if closed else list(range(n))  # the coordinates integrated
     pas = [i for i in range(n) if i not in act]
     p = ca.DM(robot.p)
+    copper = None if objective != "energy" else ca.DM(copper_losses(robot))
     opti = ca.Opti()
     T = opti.variable() if objective == "time" else float(duration_s)
     h = T / N
@@ -166,6 +186,12 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
         m = len(pas)
         Qp, Vp = opti.variable(m, N + 1), opti.variable(m, N + 1)
         Ap, Ae = opti.variable(m, N), opti.variable(m, N)
+    # the unknowns' first values: a cubic, or the move to start from
+    if warm is None:
+        _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T,
+               duration_s, seed)
+    else:
+        _warm(opti, warm, own, pas, closed, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T)
 
     def full(own_part, pas_part):
         rows = {i: own_part[k] for k, i in enumerate(own)}
@@ -207,7 +233,6 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
     # the effort's trapezoid, and limits held at both ends
     passive: dict[int, list] = {}
     powers: list = []  # starts then ends, as the torques
-    copper = None if objective != "energy" else ca.DM(copper_losses(robot))
     starts = [torque(k, k, False) for k in range(N)]
     ends = [torque(k + 1, k, True) for k in range(N)]
     for start, end in passive.values():  # the trapezoid: second order in the interval
@@ -222,11 +247,6 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
         opti.minimize(h / 2 * ca.sum1(ca.vertcat(*powers)))
     else:
         opti.minimize(h / 2 * (ca.sumsqr(ca.horzcat(*starts)) + ca.sumsqr(ca.horzcat(*ends))))
-    if warm is None:
-        _guess(robot, opti, own, pas, closed, a0, a1, N, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T,
-               duration_s, seed)
-    else:
-        _warm(opti, warm, own, pas, closed, Qi, Vi, Ai, Qp, Vp, (Ap, Ae), T)
     opti.solver("ipopt", {"print_time": False, "expand": True},
                 {"print_level": 0, "sb": "yes", "tol": 1e-10, "max_iter": 3000})
     start = time.perf_counter()

@@ -73,10 +73,15 @@ def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
         f"{robot.name}: torque_limit is needed (the description gives no torque_limit for "
         "every actuator): one per actuated joint, N*m"))
     s, q, q_s, q_ss = arc_length_path(robot, path)
+    # the actuated torques (N, actuated) at rest, under q_s sddot and under q_s sdot^2 + q_ss
+    # sdot^2: tau = a sddot + b sdot^2 + c
     zero = np.zeros_like(q)
-    c = _torques(robot, q, zero, zero)
-    a = _torques(robot, q, zero, q_s) - c
-    b = _torques(robot, q, q_s, q_ss) - c
+    rates = ((zero, zero), (zero, q_s), (q_s, q_ss))
+    if robot.is_closed_chain:
+        c, a, b = (robot.closed_chain_inverse_dynamics(q, qd, qdd)[0] for qd, qdd in rates)
+    else:
+        c, a, b = (robot.inverse_dynamics(q, qd, qdd) for qd, qdd in rates)
+    a, b = a - c, b - c
     x_max = np.full(len(s), np.inf)
     v = (description_speed_limits(robot) if speed_limit is None
          else speed_limits(robot, speed_limit))
@@ -135,13 +140,6 @@ def arc_length_path(robot: Robot, path: JointTrajectory):
         full = from_actuated(robot, s, qa, qa_s, qa_ss, q_guess=path.q[0])
         return s, full.q, full.qd, full.qdd
     return s, qa.copy(), qa_s, qa_ss
-
-
-def _torques(robot: Robot, q, qd, qdd) -> np.ndarray:
-    """The actuated torques (N, actuated) at these states."""
-    if robot.is_closed_chain:
-        return robot.closed_chain_inverse_dynamics(q, qd, qdd)[0]
-    return robot.inverse_dynamics(q, qd, qdd)
 
 
 def _controllable(robot, a, b, c, lim, x_max, ds) -> tuple[np.ndarray, np.ndarray]:

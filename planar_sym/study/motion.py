@@ -11,7 +11,6 @@ import numpy as np
 from ..errors import InputError
 from ..model.description.types import ANGLE_TURN_RAD
 from ..model.robot import Robot
-from ..motion.closure import complete_state
 from ..motion.profiles import JointTrajectory, Trajectory
 from ..motion.profiles_by_name import make_profile, profile_span
 from . import spec as specs
@@ -141,20 +140,23 @@ def start_pose(st: specs.Study, robot: Robot) -> np.ndarray | None:
 
 def initial_state(st: specs.Study, robot: Robot) -> tuple[np.ndarray, np.ndarray, bool]:
     """(q0, qd0, project): every coordinate's start in rad and rad/s. A closed chain's q0 is
-    every coordinate, on the loops, or its actuated joints only: the passive ones are then
-    solved from the loops, continued from the drawn pose (so in its assembly mode), and their
-    rates from qd0 (actuated joints too)."""
+    every coordinate, on the loops, or its actuated joints only: the passive ones are then left
+    to the simulation to solve (``project`` True: ``dynamics.forward.simulate`` continues the
+    drawn pose along the loops, so in its assembly mode, and takes their rates from qd0's), and
+    are returned at the drawn pose, their rates 0."""
     s, scale = st.simulation, coordinate_scale(st, robot)
     n_act = len(robot.actuated)
     short = robot.is_closed_chain and len(s.q0) == n_act
     warn_turns(st, robot, "simulation.q0", s.q0, robot.actuated if short else range(robot.n))
-    if robot.is_closed_chain and len(s.q0) == n_act:
+    if short:
         act = list(robot.actuated)
         qda = np.zeros(n_act) if s.qd0 is None else np.array(s.qd0)
         check_width(st, "simulation.qd0", qda, n_act, "actuated joint")
-        # the passive joints reached from the drawn pose along the loops, in its assembly mode
-        # (Newton straight from the drawn passive angles could close the other one)
-        q0, qd0 = complete_state(robot, np.array(s.q0) * scale[act], qda * scale[act])
+        # passive coordinates at the drawn pose are no guess to simulate(project=True): it
+        # reaches them from the drawn pose along the loops, in its assembly mode (Newton
+        # straight from the drawn passive angles could close the other one)
+        q0, qd0 = np.array(robot.q_drawn, dtype=float), np.zeros(robot.n)
+        q0[act], qd0[act] = np.array(s.q0) * scale[act], qda * scale[act]
         return q0, qd0, True
     what = "coordinate (or actuated joint, for a closed chain)" if robot.is_closed_chain \
         else "coordinate"

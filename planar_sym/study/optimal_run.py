@@ -9,6 +9,8 @@ result is the move itself: the solver's coordinates and torques at its nodes.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..errors import InputError, SimulationError
@@ -16,6 +18,9 @@ from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from . import spec as specs
 from .motion import check_width, coordinate_scale
+
+if TYPE_CHECKING:  # the optimal layer is imported when a move is asked for
+    from ..optimal.point_to_point import OptimalMove
 
 #: the move found for a study on a robot's parameters: a study's run asks for it more than
 #: once (its motion, its reference, the pictures); keyed by the study and the parameters
@@ -72,30 +77,16 @@ def plan(st: specs.Study, robot: Robot):
     return move, note
 
 
-def sampled(robot: Robot, jt: JointTrajectory, t: np.ndarray) -> JointTrajectory:
-    """The move at times ``t`` (s, within it): exact on its constant-acceleration intervals
-    (a closed chain's passive joints from the loops)."""
-    from ..motion.closure import from_actuated
-
-    t = np.clip(np.asarray(t, dtype=float), jt.t_s[0], jt.t_s[-1])
-    k = np.clip(np.searchsorted(jt.t_s, t, side="right") - 1, 0, len(jt.t_s) - 2)
-    dt = (t - jt.t_s[k])[:, None]
-    acc = jt.qdd[k]
-    q = jt.q[k] + jt.qd[k] * dt + acc * dt**2 / 2
-    qd = jt.qd[k] + acc * dt
-    if not robot.is_closed_chain:
-        return JointTrajectory(t, q, qd, acc, jt.solver)
-    act = list(robot.actuated)
-    return from_actuated(robot, t, q[:, act], qd[:, act], acc[:, act], q_guess=jt.q[k[0]])
-
-
 def plan_motion(st: specs.Study, robot: Robot, samples: int | None = None,
-                t: np.ndarray | None = None) -> tuple[JointTrajectory, np.ndarray | None]:
+                t: np.ndarray | None = None
+                ) -> tuple[JointTrajectory, np.ndarray | None, OptimalMove, str]:
     """The move as a study's joint motion: at its nodes, at ``samples`` evenly spaced times,
-    or at the times ``t`` (s); and its task coordinates (None without a task)."""
-    move, _ = plan(st, robot)
+    or at the times ``t`` (s) (``OptimalMove.sampled_at``); its task coordinates (None
+    without a task); and the move itself with the sentence saying what was found (``plan``)."""
+    move, note = plan(st, robot)
     jt = move.trajectory
     if t is not None or samples is not None:
         times = np.linspace(jt.t_s[0], jt.t_s[-1], samples) if t is None else t
-        jt = sampled(robot, jt, times)
-    return jt, (robot.task(jt.q)[0].reshape(len(jt.t_s), -1) if robot.task_names else None)
+        jt = move.sampled_at(robot, times)
+    x = robot.task(jt.q)[0].reshape(len(jt.t_s), -1) if robot.task_names else None
+    return jt, x, move, note

@@ -7,9 +7,10 @@ rate ``qd<k>_rad_s`` and, for inverse dynamics, acceleration ``qdd<k>_rad_s2`` (
 robot's coordinates, passive joints of closed chains included); the torque at each actuated
 coordinate ``tau<k>_n_m`` (same k); for closed chains the reaction force at each cut joint
 ``fx_<joint>_n``, ``fy_<joint>_n`` (N, world axes, on the cut joint's parent body); for inverse
-dynamics every joint's load (``load_series``: ``jfx_<joint>_n``, ``jfy_<joint>_n``,
-``jload_<joint>_n``, ``jm_<joint>_n_m``, ``jfn_<joint>_n``, the parent body on the child body)
-and the power ``p<k>_w``; for forward dynamics ``energy_j``.
+dynamics (the series ``dynamics.along.inverse_series`` makes, as tau and f* above) every joint's
+load (``jfx_<joint>_n``, ``jfy_<joint>_n``, ``jload_<joint>_n``, ``jm_<joint>_n_m``,
+``jfn_<joint>_n``, the parent body on the child body) and the power ``p<k>_w``; for forward
+dynamics ``energy_j``.
 """
 
 from __future__ import annotations
@@ -20,9 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..dynamics.along import inverse_along
+from ..dynamics.along import inverse_along, inverse_series
 from ..dynamics.inverse import split_along
-from ..dynamics.reactions import JointLoads
 from ..errors import InputError, LibraryError
 from ..model.locate import load
 from ..model.robot import Robot
@@ -119,18 +119,14 @@ def plant_of(st: specs.Study, robot: Robot) -> Robot | None:
 def _optimal(st: specs.Study, robot: Robot, samples: int | None) -> Result:
     """The optimal move run as an inverse study runs its motion (at its nodes, or at
     ``samples`` evenly spaced times); a tree with a passive joint: the move itself."""
-    from .optimal_run import plan, plan_motion
+    from .optimal_run import plan_motion
 
-    move, found = plan(st, robot)
-    if robot.is_closed_chain or len(robot.actuated) == robot.n:
-        jt, x = plan_motion(st, robot, samples)
+    # a tree with a passive joint: the solver's nodes (between them the joint is not free)
+    nodes = not (robot.is_closed_chain or len(robot.actuated) == robot.n)
+    jt, x, move, found = plan_motion(st, robot, None if nodes else samples)
+    if not nodes:
         return _inverse(st, robot, jt, x, found)
-    jt = move.trajectory  # the solver's nodes: between them the passive joint is not free
-    data = [Series("t", "s", jt.t_s)]
-    if robot.task_names:
-        data += task_series(robot, robot.task(jt.q)[0].reshape(len(jt.t_s), -1))
-    for kind, values in (("q", jt.q), ("qd", jt.qd), ("qdd", jt.qdd)):
-        data += coordinate_series(robot, kind, values)
+    data = _motion_series(robot, jt, x)
     data += coordinate_series(robot, "tau", move.tau, robot.actuated)
     data += [Series("p", "W", move.tau[:, k] * jt.qd[:, i], index=i)
              for k, i in enumerate(robot.actuated)]
@@ -141,6 +137,17 @@ def _optimal(st: specs.Study, robot: Robot, samples: int | None) -> Result:
             "at a node): add [control] to run it on the robot")
     return Result(st.name, st.title, data, kind="torques", note=note, robot=robot.name,
                   actuated=robot.actuated, timing=found)
+
+
+def _motion_series(robot: Robot, jt: JointTrajectory, x) -> list[Series]:
+    """A joint motion's series, in a result's order: ``t`` (s), the task coordinates ``x``
+    ((N, task) SI, or None: ``task_series``), then every coordinate's ``q``, ``qd``, ``qdd``."""
+    data = [Series("t", "s", jt.t_s)]
+    if x is not None:
+        data += task_series(robot, x)
+    for kind, values in (("q", jt.q), ("qd", jt.qd), ("qdd", jt.qdd)):
+        data += coordinate_series(robot, kind, values)
+    return data
 
 
 def coordinate_series(robot: Robot, quantity: str, values: np.ndarray,
@@ -154,20 +161,11 @@ def coordinate_series(robot: Robot, quantity: str, values: np.ndarray,
 
 
 def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x, timing: str = "") -> Result:
-    inv = inverse_along(robot, jt.t_s, jt.q, jt.qd, jt.qdd)
-    data = [Series("t", "s", jt.t_s)]
-    if x is not None:
-        data += task_series(robot, x)
-    for kind, values in (("q", jt.q), ("qd", jt.qd), ("qdd", jt.qdd)):
-        data += coordinate_series(robot, kind, values)
-    data += coordinate_series(robot, "tau", inv.tau, robot.actuated)
-    for k, loop in enumerate(robot.loops):
-        data += [Series("fx", "N", inv.cut_forces[:, 2 * k], joint=loop),
-                 Series("fy", "N", inv.cut_forces[:, 2 * k + 1], joint=loop)]
-    data += load_series(inv.loads, {d.joint for d in robot.drive_train.drives if d.modelled})
-    data += [Series("p", "W", inv.power_w[:, k], index=i)  # the power each actuator delivers
-             for k, i in enumerate(robot.actuated)]
+    # the motion's own series and note first; then the inverse dynamics, which gives its own
+    data = _motion_series(robot, jt, x)
     note = _coordinates_note(robot) + (f"; {timing}" if timing else "")
+    inv = inverse_along(robot, jt.t_s, jt.q, jt.qd, jt.qdd)
+    data += inverse_series(robot, inv)
     if inv.loop_residual_m is not None:
         note += (f"; loop residual max |Phi| = {inv.loop_residual_m:.1e} m; f*: force on the "
                  "cut joint's parent body")
@@ -187,26 +185,6 @@ def _inverse(st: specs.Study, robot: Robot, jt: JointTrajectory, x, timing: str 
     return Result(st.name, st.title, data, kind="torques", note=note, split=inv.split,
                   sizing=inv.sizing,
                   robot=robot.name, solver=solver, actuated=robot.actuated, timing=timing)
-
-
-def load_series(loads: JointLoads, driven: set[str] = frozenset()) -> list[Series]:
-    """Every joint's load as series of that ``joint``: ``jfx``, ``jfy`` (N, world axes, the
-    parent body on the child body; columns ``jfx_<joint>_n``), ``jload`` (|F|, the bearing
-    load); the reaction couple ``jm`` (N*m) of welds and prismatic joints, and of the revolute
-    joints in ``driven`` (with an actuator model: the gearbox's output the link feels, less
-    friction and rotor than the torque; without one a revolute joint's couple is its torque,
-    or 0 if passive); a prismatic joint's normal force ``jfn`` (N)."""
-    out = []
-    load = loads.magnitude
-    for i, (name, kind) in enumerate(zip(loads.names, loads.types)):
-        out += [Series("jfx", "N", loads.force[:, i, 0], joint=name),
-                Series("jfy", "N", loads.force[:, i, 1], joint=name),
-                Series("jload", "N", load[:, i], joint=name)]
-        if kind in ("weld", "prismatic") or (kind == "revolute" and name in driven):
-            out.append(Series("jm", "N*m", loads.couple[:, i], joint=name))
-        if kind == "prismatic":
-            out.append(Series("jfn", "N", loads.normal[name], joint=name))
-    return out
 
 
 def _forward(st: specs.Study, robot: Robot, samples: int | None) -> Result:
@@ -303,7 +281,7 @@ def motion_and_reference(study: str | Path | specs.Study, frames: int
     if st.kind == "optimal":
         from .optimal_run import plan_motion
 
-        jt, _ = plan_motion(st, robot, frames)
+        jt, *_ = plan_motion(st, robot, frames)
         return robot, jt.t_s, jt.q, None
     if st.optimise is None:
         jt, _ = joint_motion(st, robot, frames)
