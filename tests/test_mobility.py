@@ -156,6 +156,7 @@ def test_singular_drawn_pose(tmp_path):
     (ROOT / "tests" / "robots" / "carriage_arm.toml", 3),
     (ROOT / "tests" / "robots" / "geared_cart_arm.toml", 3),
     (ROOT / "tests" / "robots" / "pend_lim.toml", 1),
+    (ROOT / "tests" / "robots" / "five_bar_unequal.toml", 2),
 ])
 def test_dof_of_every_robot_that_ships(robot, dof):
     m = mobility.of(description.load(robot))
@@ -169,7 +170,7 @@ def test_test_robots_are_all_counted():
     2 degrees of freedom have 1 motor: an underactuated tree, tests/test_sliders.py)."""
     assert sorted(p.name for p in (ROOT / "tests" / "robots").glob("*.toml")) == [
         "actuated_2dof.toml", "bent_arm.toml", "carriage_arm.toml", "cart_pole.toml",
-        "cart_pole_incline.toml", "geared_cart_arm.toml",
+        "cart_pole_incline.toml", "five_bar_unequal.toml", "geared_cart_arm.toml",
         "horizontal_2dof.toml", "parallelogram.toml", "pend_lim.toml", "pendulum.toml",
         "point_pendulum.toml",
         "rotated_slider.toml", "rpr_geared.toml"]

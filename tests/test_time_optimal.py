@@ -8,6 +8,7 @@ program is the reference."""
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +19,8 @@ import planar_sym as ps
 from planar_sym.errors import InputError
 from planar_sym.motion.closure import from_actuated
 from planar_sym.optimal.time_optimal import arc_length_path
+
+ROOT_ROBOTS = Path(__file__).resolve().parent / "robots"
 
 
 def _s3():
@@ -236,3 +239,20 @@ def test_a_sweep_times_each_design_anew():
         assert res.columns["peak_tau2_n_m"][k] == pytest.approx(peak, rel=1e-12)
     # the heaviest elbow motor: joint 1 binds all along, joint 2 stays off its 0.1 N*m
     assert res.columns["peak_tau2_n_m"][2] < 0.05
+
+
+def test_the_last_sample_holds_its_limits():
+    """The last sample has no interval ahead: it kept the previous interval's sdot-dot, whose
+    torque there passed the limit (a trial's five-bar with unequal links: 1.000138 times it on
+    a 51-sample task line). Now held within its own sample's limits: every sample, every joint
+    within 1e-12 of the limit, by the robot's own closed-chain inverse dynamics."""
+    fb = ps.load(ROOT_ROBOTS / "five_bar_unequal.toml")
+    lim = np.array([0.5, 0.6])
+    start = fb.task(fb.q_drawn)[0]
+    for n in (51, 201):
+        t = np.linspace(0.0, 2.0, n)
+        path = ps.inverse_kinematics(fb, ps.cubic(start, [0.06, -0.03], 2.0, t))
+        res = ps.time_optimal(fb, path, torque_limit=lim)
+        jt = res.trajectory
+        tau, _ = fb.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd)
+        assert np.max(np.abs(tau) / lim) <= 1 + 1e-12, (n, np.max(np.abs(tau[-1]) / lim))

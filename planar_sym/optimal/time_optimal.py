@@ -99,7 +99,10 @@ def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
                              f"sample {i} (rounding?)")
         u[i] = u_hi
         x[i + 1] = max(min(x[i] + 2 * ds[i] * u[i], hi[i + 1]), lo[i + 1], 0.0)
-    u[-1] = u[-2]
+    # the last sample has no interval ahead: the previous one's u, held within what its own
+    # torque limits allow there (held as it was, a trial saw 1.000138 times the limit there)
+    u_lo, u_hi = _u_range(a[-1], b[-1] * x[-1] + c[-1], lim, -np.inf, np.inf)
+    u[-1] = min(max(u[-2], u_lo), u_hi) if u_lo <= u_hi else u[-2]
     sdot = np.sqrt(x)
     dt = 2 * ds / (sdot[:-1] + sdot[1:])
     times = np.concatenate([[0.0], np.cumsum(dt)])
