@@ -21,13 +21,14 @@ from .errors import (
 )
 from .model.locate import load
 from .model.robot import Robot
-from .motion.profiles import Trajectory, cubic
+from .motion.profiles import JointTrajectory, Trajectory, cubic
 from .outputs.equations import Equations, equations
 
 __all__ = [
     "DescriptionError",
     "Equations",
     "InputError",
+    "JointTrajectory",
     "LibraryError",
     "PlanarSymError",
     "Robot",

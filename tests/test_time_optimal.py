@@ -256,3 +256,23 @@ def test_the_last_sample_holds_its_limits():
         jt = res.trajectory
         tau, _ = fb.closed_chain_inverse_dynamics(jt.q, jt.qd, jt.qdd)
         assert np.max(np.abs(tau) / lim) <= 1 + 1e-12, (n, np.max(np.abs(tau[-1]) / lim))
+
+
+def test_a_joint_space_move_of_an_arm_is_timed_through_from_actuated():
+    """A trial had no public way to time a joint-space path of an arm: ps.from_actuated on a
+    tree raised KeyError: 'constraint', and JointTrajectory was not exported. Now the fully
+    actuated tree's motion comes back as given (exactly), is timed as the linear program says,
+    and a tree with a passive joint is refused for that reason."""
+    arm = ps.load("serial_3dof")
+    t = np.linspace(0.0, 2.0, 121)
+    c = ps.cubic([0.0, 0.5, -0.3], [1.2, -0.9, 0.9], 2.0, t)
+    path = ps.from_actuated(arm, t, c.x, c.xd, c.xdd)
+    assert isinstance(path, ps.JointTrajectory)
+    assert all(np.array_equal(a, b) for a, b in ((path.q, c.x), (path.qd, c.xd),
+                                                   (path.qdd, c.xdd)))
+    lim = np.array([5.0, 3.0, 1.0])
+    res = ps.time_optimal(arm, path, lim)
+    sdot, _ = _lp(arm, path, lim)
+    assert np.abs(res.sdot - sdot).max() <= 1e-9 * sdot.max()
+    with pytest.raises(InputError, match="cart_pole: hinge passive in a tree"):
+        ps.from_actuated(ps.load("cart_pole"), t, c.x[:, :1], c.xd[:, :1], c.xdd[:, :1])

@@ -323,7 +323,8 @@ def complete_rates(robot: Robot, q, qd_act, qdd_act, t=None) -> tuple[np.ndarray
 
 
 def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> JointTrajectory:
-    """Full joint motion of a closed chain from its actuated joints' motion.
+    """Full joint motion of a closed chain from its actuated joints' motion (of a fully
+    actuated tree: the motion given, as a ``JointTrajectory``).
 
     Parameters
     ----------
@@ -338,6 +339,17 @@ def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> Join
     t = as_samples("t", np.reshape(t, (-1, 1)) if np.ndim(t) == 1 else t, 1)[:, 0]
     if len(t) != len(np.atleast_2d(q_act)):
         raise InputError(f"t has {len(t)} times for {len(np.atleast_2d(q_act))} samples of q_act")
+    if not robot.is_closed_chain:  # (a KeyError on the loop functions a tree has not, before)
+        passive = [robot.coordinates[i] for i in range(robot.n) if i not in robot.actuated]
+        if passive:
+            raise InputError(f"{robot.name}: {', '.join(passive)} passive in a tree: a tree's "
+                             "passive joints follow from its dynamics, not from the actuated "
+                             "joints' motion (simulate it under their torques)")
+        act = list(robot.actuated)
+        full = [np.zeros((len(t), robot.n)) for _ in range(3)]
+        for f, (k, a) in zip(full, (("q_act", q_act), ("qd_act", qd_act), ("qdd_act", qdd_act))):
+            f[:, act] = as_samples(k, a, len(act), times=t)
+        return JointTrajectory(np.asarray(t), *full)
     q = solve_passive(robot, q_act, q_guess, t)
     qd, qdd = complete_rates(robot, q, qd_act, qdd_act, t)
     return JointTrajectory(np.asarray(t), q, qd, qdd)
