@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import TEST_ROBOTS
 from scipy.integrate import solve_ivp
 
 import planar_sym as ps
@@ -256,3 +257,27 @@ def test_closed_chain_driven_by_a_slider_and_its_refusals_name_the_array():
         ps.linearize(sc, [np.nan])
     with pytest.raises(InputError, match=r"^qd must have shape \(N, 1\) or \(1,\)"):
         ps.linearize(sc, sc.q_drawn, qd=[0.0, 0.0])
+
+
+def test_a_design_leaning_on_smoothed_coulomb_friction_is_said():
+    """At rest c tanh(qd / v_s) linearises to a damping c / v_s that holds only below v_s: a
+    trial's geared arm got rate gains 10 times lower than without it, and no word. pend_lim:
+    c = 0.05 N*m, v_s = 0.01 rad/s, viscous 0.01 N*m*s/rad: the slope c / v_s = 5 (by hand) is
+    named; the rate gain without Coulomb friction is 10 times larger; no word without Coulomb
+    friction, or moving at 100 v_s (slope 5 sech^2(100), nothing)."""
+    import warnings
+
+    robot = ps.load(TEST_ROBOTS / "pend_lim.toml")
+    with pytest.warns(RuntimeWarning, match=r"pend_lim: the linearisation counts smoothed "
+                                            r"Coulomb friction as damping: j1 5 N\*m\*s/rad "
+                                            r"\(viscous 0\.01\)"):
+        leaning = ps.lqr(robot, [-1.0], q_weight=[1, 1], r_weight=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        plain = ps.lqr(robot.with_parameters(fc_j1=0.0), [-1.0], q_weight=[1, 1], r_weight=1.0)
+    assert plain.gain[0, 1] > 8 * leaning.gain[0, 1]
+    from planar_sym.control.lqr import _warn_coulomb_damping
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _warn_coulomb_damping(robot, [1.0])  # 100 v_s: sech^2(100) ~ 5e-87
