@@ -302,3 +302,68 @@ def test_excite_refuses_a_tree_with_a_passive_joint_for_that_reason(tmp_path, ca
     err = capsys.readouterr().err
     assert "cart_pole: hinge is passive: an exciting motion is imposed on every joint" in err
     assert "widen" not in err and not out.exists()
+
+
+CART_POLE = """name = "rigid_cart_pole"
+title = "a trial's cart-pole: a 1 kg cart, a 0.3 kg pole of 0.6 m"
+gravity = [0.0, -9.81]
+[units]
+length = "m"
+mass = "kg"
+inertia = "kg*m^2"
+acceleration = "m/s^2"
+[ground]
+points = { rail = [0.0, 0.0] }
+[[bodies]]
+name = "cart"
+mass = 1.0
+mass_at = "C"
+points = { C = [0.0, 0.0] }
+[[bodies]]
+name = "pole"
+mass = 0.3
+izz = 0.01
+cg = [0.0, 0.3]
+cg_from = "C"
+points = { C = [0.0, 0.0], T = [0.0, 0.6] }
+frame = ["C", "T"]
+[[joints]]
+name = "slide"
+type = "prismatic"
+parent = "ground.rail"
+child = "cart.C"
+actuated = true
+axis = [1.0, 0.0]
+[[joints]]
+name = "hinge"
+type = "revolute"
+parent = "cart.C"
+child = "pole.C"
+actuated = false
+"""
+
+
+def test_a_differentiation_artefact_on_noise_free_data_is_left_out(tmp_path, capsys):
+    """A trial's cart-pole, simulated under a known force table (no friction, no noise, 200
+    Hz): central differences leave a viscous friction of 0.0024 N*s/m, 4.6 standard
+    deviations from zero but 0.07 % of the torques, and identify refused: "the description has
+    no place for fv_slide". Below 0.1 % of the torques it is left out with the warning, and
+    the masses come back within 0.1 % of the description's."""
+    from planar_sym.control import from_table
+
+    (tmp_path / "cp.toml").write_text(CART_POLE)
+    cp = ps.load(tmp_path / "cp.toml")
+    t = np.linspace(0.0, 4.0, 801)
+    force = 2 * np.sin(2 * np.pi * 0.7 * t) + np.sin(2 * np.pi * 1.9 * t)
+    run = ps.simulate(cp, [0.0, -np.pi / 2 + 0.3], [0.0, 0.0], (0.0, 4.0),
+                      torque=from_table(t, force[:, None], "cubic"), t_eval=t)
+    data = tmp_path / "cp.csv"
+    np.savetxt(data, np.column_stack([t, run.q, force]), delimiter=",", comments="",
+               header="t_s,q1_m,q2_rad,tau1_n")
+    assert main(["identify", str(tmp_path / "cp.toml"), "--data", str(data), "--out",
+                 str(tmp_path / "id")]) == 0
+    err = capsys.readouterr().err
+    assert "warning: rigid_cart_pole: left out fv_slide = " in err, err
+    found = ps.load(tmp_path / "id" / "identified_robot.toml")
+    for name in ("m_cart", "m_pole"):
+        assert found.parameters[name] == pytest.approx(cp.parameters[name], rel=1e-3)
