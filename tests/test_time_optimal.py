@@ -130,6 +130,20 @@ def test_speed_limit_is_held():
     assert np.abs(free.trajectory.qd).max() > 2.0
     assert np.abs(slow.trajectory.qd).max() <= 2.0 * (1 + 1e-9)
     assert slow.duration_s > free.duration_s
+    # where the speed bound binds is reported (a trial's run summary named only the torques:
+    # "on its limit at 46 of 201 samples", where the speed held the other 154): by hand
+    assert free.speed_limits is None and free.on_speed_limit is None
+    assert np.array_equal(slow.speed_limits, [2.0, 2.0])
+    bound = np.any(np.abs(slow.trajectory.qd) >= 2.0 * (1 - 1e-6), axis=1)
+    assert np.array_equal(slow.on_speed_limit, bound) and 0 < bound.sum() < len(bound)
+    from planar_sym.study.spec import parse
+
+    st = parse({"robot": "serial_2dof", "kind": "inverse", "units": {"length": "mm"},
+                "motion": {"space": "task", "profile": "cubic", "start": [100.0, 100.0],
+                           "by": [-200.0, 0.0], "duration": 5.0, "samples": 201},
+                "optimise": {"torque_limit": [0.5, 0.1], "speed_limit": [2.0, 2.0]}}, "s")
+    assert f"a speed on its limit (|qd| <= 2, 2 (rad/s, rad/s)) at {bound.sum()}" in (
+        ps.run_study(st).note)
 
 
 def test_refusals_name_the_mistake():

@@ -37,7 +37,8 @@ class TimeOptimal:
     q, qd, qdd of every coordinate), ``tau`` (N, actuated) N*m (N at a slider) there,
     ``sdot`` (N,) the path speed (1/s, s in [0, 1]), ``duration_s``, ``on_limit`` (N,) whether
     a torque is on its limit (to 1e-6 relative) at each sample, ``limits`` (actuated,) the
-    torque limits used."""
+    torque limits used; ``speed_limits`` (n,) rad/s (m/s at a slider) where speeds were
+    limited (else None) and ``on_speed_limit`` (N,) whether a speed is on its limit there."""
 
     trajectory: JointTrajectory
     tau: np.ndarray
@@ -45,6 +46,8 @@ class TimeOptimal:
     duration_s: float
     on_limit: np.ndarray
     limits: np.ndarray
+    speed_limits: np.ndarray | None = None
+    on_speed_limit: np.ndarray | None = None
 
 
 def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
@@ -110,8 +113,11 @@ def time_optimal(robot: Robot, path: JointTrajectory, torque_limit=None,
     qdd = q_s * u[:, None] + q_ss * x[:, None]
     tau = a * u[:, None] + b * x[:, None] + c
     on = np.any(np.abs(tau) >= lim * (1 - 1e-6), axis=1)
+    on_speed = (None if v is None else
+                np.any(np.abs(qd) >= np.asarray(v, dtype=float) * (1 - 1e-6), axis=1))
     return TimeOptimal(JointTrajectory(times, q, qd, qdd, path.solver), tau, sdot,
-                       float(times[-1]), on, lim)
+                       float(times[-1]), on, lim,
+                       None if v is None else np.asarray(v, dtype=float), on_speed)
 
 
 def arc_length_path(robot: Robot, path: JointTrajectory):

@@ -81,6 +81,11 @@ def timed_motion(st: specs.Study, robot: Robot, samples: int | None = None
             f"{jt.t_s[-1] - jt.t_s[0]:.4g} s) under |tau| <= "
             f"{', '.join(f'{v:g}' for v in fast.limits)} ({units}); a torque on its limit at "
             f"{int(fast.on_limit.sum())} of {len(fast.on_limit)} samples")
+    if fast.speed_limits is not None:  # (left out, a trial read a torque-bound move 23 % on)
+        speeds = ", ".join(f"{v:.4g}" for v in fast.speed_limits)
+        vunits = ", ".join("m/s" if u == "m" else "rad/s" for u in robot.coordinate_units)
+        note += (f", a speed on its limit (|qd| <= {speeds} ({vunits})) at "
+                 f"{int(fast.on_speed_limit.sum())}")
     return new, x, note
 
 
