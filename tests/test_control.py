@@ -438,3 +438,26 @@ def test_what_the_law_cannot_do_is_said_once(tmp_path, capsys, pole, law, contro
         assert "passive hinge" not in err and "saturate" not in err, err
     else:
         assert err.count(said) == 1, err
+
+
+def test_every_width_and_name_problem_of_a_control_study_at_once(tmp_path):
+    """A trial's study with three values of kp, kd and start_error for a 2-motor arm, and two
+    unknown joint names under joint_limits: one run said kp, the next start_error, kd never,
+    and only the first name. Now one error lists each, with its field."""
+    control = ("law = \"pd\"\nkp = [1.0, 2.0, 3.0]\nkd = [0.1, 0.2, 0.3]\n"
+               "start_error = [1.0, 2.0, 3.0]\n[events]\n"
+               "joint_limits = { j9 = [-1.0, 1.0], q7 = [-1.0, 1.0] }")
+    path = _study(tmp_path, BASE.format(dx=-100.0, control=control))
+    with pytest.raises(InputError) as err:
+        run(path)
+    text = str(err.value)
+    assert text.startswith("invalid study:\n  ")
+    for field in ("control.kp: serial_2dof needs 2 values", "control.kd: serial_2dof needs 2",
+                  "control.start_error: serial_2dof needs 2", "events.joint_limits.j9:",
+                  "events.joint_limits.q7:"):
+        assert text.count(field) == 1, (field, text)
+    # one problem alone reads as before: the file, the field, no heading
+    path = _study(tmp_path, BASE.format(dx=-100.0, control="law = \"pd\"\nkp = [1.0, 2.0, 3.0]\n"
+                                                          "kd = [0.1]"))
+    with pytest.raises(InputError, match=r"^\S+c\.toml: control\.kp: serial_2dof needs 2 "):
+        run(path)

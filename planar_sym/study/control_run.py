@@ -24,6 +24,7 @@ from ..errors import InputError, warn_caller
 from ..model.robot import Robot
 from ..motion.signals import from_motion, from_table
 from . import spec as specs
+from .checks import StudyError
 from .columns import coordinates_note, task_series
 from .motion import check_width, coordinate_scale, joint_motion, warn_start_error, warn_turns
 from .result import Result, Series, coordinate_column
@@ -35,9 +36,16 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
     study's [control.plant] applied, by ``study.run``) as the machine that moves."""
     cs = st.control
     where = str(st.path or st.name)
-    # the study read into one request in SI (its fields checked here, by name), then tracked
-    kp, kd = _given_gains(st, robot)
-    start_error, limits = _start_error(st, robot), _limits(st, robot)
+    # the study read into one request in SI (its fields checked here, by name, every problem
+    # at once: a trial's kp, kd and start_error of the wrong width came one run at a time,
+    # kd never), then tracked
+    problems: list[str] = []
+    kp, kd = _collect(problems, (None, None), _given_gains, st, robot)
+    start_error = _collect(problems, None, _start_error, st, robot)
+    limits = _collect(problems, {}, _limits, st, robot)
+    weights = {k: _collect(problems, None, _weights, st, robot, k)
+               for k in ("q_weight", "r_weight")}
+    _all_at_once(problems)
     tau, found = None, ""
     if st.kind == "optimal":  # the optimal move, with the torques that make it
         from .optimal_run import plan
@@ -62,12 +70,31 @@ def run_control(st: specs.Study, robot: Robot, samples: int | None = None,
         duration_s=cs.duration_s, start_error=start_error, torque=torque, joint_limits=limits,
         on_joint_limit=st.events.on_joint_limit, on_actuator_limit=st.events.on_actuator_limit,
         plant=plant, method=cs.method, rtol=cs.rtol, atol=cs.atol, where=where,
-        q_weight=_weights(st, robot, "q_weight"), r_weight=_weights(st, robot, "r_weight"),
+        q_weight=weights["q_weight"], r_weight=weights["r_weight"],
         tau=tau))
     result = _result(st, robot, done)
     if found:  # what the move is: the plan the law tracks
         result = replace(result, note=f"{found}; {result.note}", timing=found)
     return result
+
+
+def _collect(problems: list[str], default, check, *args):
+    """``check(*args)``, or ``default`` with its problems added to ``problems``."""
+    try:
+        return check(*args)
+    except StudyError as exc:
+        problems.extend(exc.problems)
+    except InputError as exc:
+        problems.append(str(exc))
+    return default
+
+
+def _all_at_once(problems: list[str]) -> None:
+    """One problem as it reads; several as one StudyError, each on its line."""
+    if len(problems) == 1:
+        raise InputError(problems[0])
+    if problems:
+        raise StudyError(problems)
 
 
 def _warn_unheld(st: specs.Study, robot: Robot, jt) -> None:
@@ -115,9 +142,12 @@ def _given_gains(st: specs.Study, robot: Robot):
     na = len(robot.actuated)
     if cs.law == "none" or cs.kp is None:
         return None, None
+    problems: list[str] = []
     for key, v in (("control.kp", cs.kp), ("control.kd", cs.kd)):
         if len(v) != 1:
-            check_width(st, key, v, na, "actuated joint (or 1 for all)")
+            _collect(problems, None, check_width, st, key, v, na,
+                     "actuated joint (or 1 for all)")
+    _all_at_once(problems)
     return np.broadcast_to(cs.kp, (na,)), np.broadcast_to(cs.kd, (na,))
 
 
@@ -135,15 +165,17 @@ def _start_error(st: specs.Study, robot: Robot):
 def _limits(st: specs.Study, robot: Robot) -> dict:
     """Joint limits in SI, keyed by coordinate index; ``q<k>`` or the joint's name."""
     scale = coordinate_scale(st, robot)
-    out = {}
+    out, problems = {}, []
     for key, (lo, hi) in st.events.joint_limits.items():
         try:
             i = coordinate_index(robot, key)
         except InputError as exc:
-            raise InputError(f"{st.path or st.name}: events.joint_limits.{key}: {exc}") from None
+            problems.append(f"{st.path or st.name}: events.joint_limits.{key}: {exc}")
+            continue
         # limits typed in degrees in a radian study fired "at t = 0 s" with no file or field
         warn_turns(st, robot, f"events.joint_limits.{key}", (lo, hi), (i, i))
         out[i] = (lo * scale[i], hi * scale[i])
+    _all_at_once(problems)
     return out
 
 
