@@ -152,7 +152,11 @@ def _forward(desc):
 def test_the_cheaper_solve_is_kept(tmp_path):
     small = _forward(description.load(ROBOTS_DIR / "serial_2dof.toml"))
     assert "articulated" not in small["forward_dynamics"].route  # L D L^T of a 2 x 2
-    for n in (4, 12, 20):
+    # at 4 links L D L^T of the composite M is the cheaper since its entries cost 4
+    # operations (e97269e), from 6 links the recursion
+    four = _forward(description.load(write_chain(4, tmp_path)))
+    assert "articulated" not in four["forward_dynamics"].route
+    for n in (6, 12, 20):
         gens = _forward(description.load(write_chain(n, tmp_path)))
         assert gens["forward_dynamics"].route.endswith("M^-1 by articulated bodies"), n
         assert "articulated" not in gens["forward_dynamics_jacobian"].route  # compile cost
