@@ -292,3 +292,45 @@ def test_the_default_cutoff_follows_the_positions_band_and_leaves_the_inertia_un
             errs.append(est.values[k] / true[k] - 1)
     assert abs(np.mean(errors[None])) < 0.005 and np.max(np.abs(errors[None])) < 0.025
     assert np.mean(errors[20.0]) < -0.01 and np.min(errors[20.0]) < -0.1  # the former default
+
+
+def test_the_positions_band_by_hand():
+    """``signal_band``: sines of 1 and 3 Hz about an offset of 100 rad (its mean must go: else
+    the offset is all the power), a small column (1e-3 rad: it still moves) and a still one
+    (left out), 10 s at 200 Hz: the band is the 3 Hz line, widened by the Hann window by
+    less than 2 bins (0.2 Hz); nothing moving gives 0."""
+    from planar_sym.identify.data import signal_band
+
+    t = np.arange(0.0, 10.0, 0.005)
+    q = np.column_stack([100 + np.sin(2 * np.pi * t) + 0.5 * np.sin(6 * np.pi * t),
+                         1e-3 * np.sin(2 * np.pi * t), np.zeros_like(t)])
+    assert 3.0 <= signal_band(q, 200.0) <= 3.2
+    assert 1.0 <= signal_band(q[:, 1:], 200.0) <= 1.2
+    assert signal_band(q[:, 2:], 200.0) == 0.0
+
+
+@pytest.mark.parametrize(("duration", "hz", "band", "said"), [
+    (1.0, 0.5, 0.5, ("10 times the positions' band, 0.5 Hz, raised to 12.4 Hz: the record "
+                     "is too short for lower")),
+    (6.0, 5.0, None, "a tenth of the sampling rate"),
+    (6.0, 0.5, None, "10 times the positions' band, 0.666 Hz;"),
+])
+def test_the_default_corner_by_band_sampling_rate_and_record_length(monkeypatch, duration, hz,
+                                                                     band, said):
+    """The corner the note names, by hand: 10 times the band (0.666 Hz for a 0.5 Hz sine over
+    6 s: the window's spread); a tenth of the sampling rate where 10 times the band is above
+    it (a 5 Hz motion: 50 Hz against 20); raised where the record cannot spare the ends a low
+    corner drops: 1 s at 200 Hz, 4 periods of the corner at each end and a third left, need
+    4 * 200 / (200 / 3 - 2) = 12.4 Hz (a band of 0.5 Hz set here: over 1 s the window spreads
+    any motion wider)."""
+    from planar_sym.identify import data
+
+    if band is not None:
+        monkeypatch.setattr(data, "signal_band", lambda q, fs: band)
+    robot = ps.load("serial_2dof")
+    t = np.arange(0.0, duration + 1e-9, 0.005)
+    q = np.column_stack([0.5 * np.sin(2 * np.pi * hz * t), 1.0 + 0.3 * np.sin(2 * np.pi * hz * t)])
+    qd = np.gradient(q, t, axis=0)
+    tau = robot.inverse_dynamics(q, qd, np.gradient(qd, t, axis=0))
+    note = experiment(robot, t, q, tau).notes[-1]
+    assert said in note, note
