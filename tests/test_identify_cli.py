@@ -367,3 +367,16 @@ def test_a_differentiation_artefact_on_noise_free_data_is_left_out(tmp_path, cap
     found = ps.load(tmp_path / "id" / "identified_robot.toml")
     for name in ("m_cart", "m_pole"):
         assert found.parameters[name] == pytest.approx(cp.parameters[name], rel=1e-3)
+
+
+def test_an_excitation_range_beyond_a_turn_is_asked_about():
+    """A trial typed --range 400 (degrees, as it meant) and got 400 rad each way, silently."""
+    import warnings
+
+    robot = ps.load("serial_2dof")
+    with pytest.warns(RuntimeWarning, match=r"serial_2dof: the excitation range of joint1, "
+                                            r"joint2 is more than a turn each way \(400 rad\)"):
+        default_limits(robot, range_=400.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        default_limits(robot, range_=6.0)  # under a turn each way: no word

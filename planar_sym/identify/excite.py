@@ -103,6 +103,11 @@ def default_limits(robot: Robot, range_=None, speed=None, acceleration=None) -> 
 
     half, sp, acc = given(range_, 0, "range"), given(speed, 1, "speed"), \
         given(acceleration, 2, "acceleration")
+    turns = [robot.coordinates[i] for i, h, s in zip(act, half, slide) if not s and h > 2 * np.pi]
+    if turns:  # (--range 400 was taken as 400 rad each way: a trial)
+        warn_caller(f"{robot.name}: the excitation range of {', '.join(turns)} is more than a "
+                    f"turn each way ({max(half[~slide]):.4g} rad): degrees typed as radians? "
+                    "(the range is in rad at a revolute joint)")
     q0 = np.asarray(robot.q_drawn, dtype=float)[act]
     return Limits(q0 - half, q0 + half, sp, acc)
 
