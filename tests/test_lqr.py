@@ -280,4 +280,4 @@ def test_a_design_leaning_on_smoothed_coulomb_friction_is_said():
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        _warn_coulomb_damping(robot, [1.0])  # 100 v_s: sech^2(100) ~ 5e-87
+        _warn_coulomb_damping(robot, ps.linearize(robot, [-1.0], [1.0]))  # 100 v_s: sech^2(100) ~ 5e-87

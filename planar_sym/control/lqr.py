@@ -69,7 +69,7 @@ def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
     qm = _weight("q_weight", q_weight, 2 * held, definite=False)
     rm = _weight("r_weight", r_weight, na, definite=True)
     lin = linearize(robot, q, qd, tau)
-    _warn_coulomb_damping(robot, qd)
+    _warn_coulomb_damping(robot, lin)
     scale = max(float(np.abs(lin.a).max()), 1.0)
     if np.abs(lin.qdd).max() > 1e-9 * scale:
         raise InputError(f"{robot.name}: not an equilibrium (qdd = {lin.qdd.tolist()} there): "
@@ -94,17 +94,19 @@ def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
 COULOMB_DAMPING_RATIO = 10.0
 
 
-def _warn_coulomb_damping(robot: Robot, qd) -> None:
+def _warn_coulomb_damping(robot: Robot, lin: Linearization) -> None:
     """At rest the smoothed Coulomb friction c tanh(qd / v_s) linearises to a damping c / v_s,
     which holds only below v_s (0.01 rad/s by default): a trial's geared arm got 20 N*m*s/rad
     against 0.05 of viscous friction, rate gains 10 times lower than without it, and no word.
     Said where that slope passes ``COULOMB_DAMPING_RATIO`` times the viscous friction."""
-    rates = np.zeros(robot.n) if qd is None else np.asarray(qd, dtype=float).reshape(-1)
+    # the rates of the state designed about (a closed chain's: its actuated coordinates')
+    rate = dict(zip(lin.coordinates, np.asarray(lin.qd, dtype=float).reshape(-1)))
     leaning = []
     for d in robot.drive_train.drives:
         if d.coulomb <= 0 or d.smoothing <= 0:
             continue
-        slope = d.coulomb / d.smoothing * (1 - np.tanh(rates[d.coordinate] / d.smoothing) ** 2)
+        qd = rate.get(d.coordinate, 0.0)
+        slope = d.coulomb / d.smoothing * (1 - np.tanh(qd / d.smoothing) ** 2)
         if slope > COULOMB_DAMPING_RATIO * d.viscous:
             leaning.append(f"{d.joint} {slope:.3g} {d.unit}*s/{'m' if d.unit == 'N' else 'rad'} "
                            f"(viscous {d.viscous:.3g})")
