@@ -111,3 +111,36 @@ def test_booleans_are_not_numbers_on_any_route():
             call()
             raise AssertionError(what)
     assert arm.mass_matrix([1, 0]).shape == (2, 2)  # integers are numbers
+
+
+def test_vary_refuses_a_bare_number_where_the_description_is_not_si(tmp_path, capsys):
+    """A trial: on the four-bar (a description in g and mm) ``--vary m_coupler=100:150:3``
+    swept a 100 kg coupler, where ``--set m_coupler=100`` and a study's [parameters] read
+    100 g: the same typed number, 1000 times apart by route, with no word. A bare length,
+    mass or inertia is refused there, one message naming each ambiguous option; with its
+    unit, or on a description in SI, it runs as before."""
+    from planar_sym.commands.sweep import parse_vary
+    from planar_sym.errors import InputError
+    from planar_sym.study.run import load_study, robot_of
+
+    four_bar = robot_of(load_study(str(ROOT / "examples" / "four_bar_turn.toml")))
+    with pytest.raises(InputError) as err:
+        parse_vary(["m_coupler=100:150:3", "px_coupler_B,cgx_coupler=20,30", "g=9.7,9.9"], False,
+                   four_bar)
+    text = str(err.value)
+    assert text.startswith("ambiguous --vary values:")
+    assert ("--vary 'm_coupler=100:150:3': four_bar's description gives mass in g, where "
+            "--vary reads a bare number in SI (kg)") in text
+    assert "'m_coupler=100:150:3 g' or 'm_coupler=100:150:3 kg'" in text
+    assert "'px_coupler_B,cgx_coupler=20,30': four_bar's description gives length in mm" in text
+    assert "'g=" not in text  # the description's acceleration is in m/s^2: bare is SI there
+    assert parse_vary(["m_coupler=100:150:3 g"], False, four_bar) == {
+        "m_coupler": (0.1, 0.15, 3.0)}
+    assert parse_vary(["m_coupler=0.1,0.15 kg"], False, four_bar) == {"m_coupler": [0.1, 0.15]}
+    si = robot_of(load_study("serial_2dof_cartesian_move"))  # in m and kg: bare is fine
+    assert parse_vary(["m_link2=0.06,0.09"], False, si) == {"m_link2": [0.06, 0.09]}
+    assert main(["sweep", str(ROOT / "examples" / "four_bar_turn.toml"), "--vary",
+                 "m_coupler=100:150:3", "--out", str(tmp_path / "out")]) != 0
+    err = capsys.readouterr().err
+    assert err.count("error:") == 1 and "four_bar's description gives mass in g" in err
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())

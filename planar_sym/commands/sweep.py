@@ -28,7 +28,8 @@ def register(sub) -> None:
                         "(with --random); NAME1,NAME2=... ties parameters to the same values; "
                         "repeat for more parameters (a grid takes every combination). Values "
                         "are SI (kg, m, kg*m^2: --parameters lists each one's), or in the unit "
-                        "given after them: 'm_link2=50:90:5 g'")
+                        "given after them: 'm_link2=50:90:5 g' (needed where the description "
+                        "is in other units, mm or g, as --set reads those)")
     p.add_argument("--parameters", action="store_true",
                    help="list the study's robot's parameters (name, value, SI unit) and stop")
     p.add_argument("--random", type=int, default=None, metavar="N",
@@ -58,7 +59,7 @@ def parse_vary(items: list[str], random: bool, robot=None) -> dict:
     """``--vary`` options as ``sweep``'s ``vary``: names (tied by commas) to values, SI; a
     unit after the values (``m_link2=50:90:5 g``) is converted by ``robot``'s parameters'
     units, as ``--set`` and a study's [parameters] read a value typed with its unit."""
-    vary = {}
+    vary, bare = {}, []
     for item in items:
         name, sep, spec = item.partition("=")
         if not sep or not name.strip() or not spec.strip():
@@ -69,7 +70,9 @@ def parse_vary(items: list[str], random: bool, robot=None) -> dict:
             numbers = [float(v) for v in spec.replace(":", ",").split(",")]
         except ValueError:
             raise InputError(f"--vary {item!r}: {spec!r} is not numbers") from None
-        if unit.strip():
+        if not unit.strip():
+            bare.append((item, name))
+        else:
             scale = _unit_scale(item, name.split(","), unit.strip(), robot)
             grid = ":" in spec and not random and len(numbers) == 3  # its count is a count
             numbers = [v * scale for v in numbers[:2]] + numbers[2:] if grid else [
@@ -87,7 +90,37 @@ def parse_vary(items: list[str], random: bool, robot=None) -> dict:
             raise InputError(f"--vary {item!r}: {key!r} is varied twice (give its values in one "
                              "--vary, e.g. NAME=V1,V2,V3)")
         vary[key] = value
+    _refuse_ambiguous(bare, robot)
     return vary
+
+
+def _refuse_ambiguous(bare: list[tuple[str, str]], robot) -> None:
+    """A bare number is SI here, but in the description's own units in a study's [parameters]
+    and in ``--set``: where those differ (a description in mm or g) the same typed number
+    would be 1000 times another value by route, so its unit must be written."""
+    from ..model.parameter_set import QUANTITY
+    from ..model.units import UNITS
+    from ..study.parameters import description_units
+
+    units = description_units(robot) if robot is not None and bare else None
+    if not units:
+        return
+    known = {p.name: p.unit for p in robot.parameter_list}
+    problems = []
+    for item, names in bare:
+        for name in names.split(","):
+            quantity = QUANTITY.get(known.get(name.strip(), ""))
+            own = units.get(quantity) if quantity else None
+            if UNITS.get(quantity, {}).get(own, 1.0) != 1.0:
+                problems.append(f"--vary {item!r}: {robot.name}'s description gives "
+                                f"{quantity} in {own}, where --vary reads a bare number in SI "
+                                f"({known[name.strip()]}) and --set and a study's [parameters] "
+                                f"read it in {own}: write the unit after the values, e.g. "
+                                f"'{item} {own}' or '{item} {known[name.strip()]}'")
+                break
+    if problems:
+        raise InputError(problems[0] if len(problems) == 1 else
+                         "ambiguous --vary values:\n  " + "\n  ".join(problems))
 
 
 def _unit_scale(item: str, names: list[str], unit: str, robot) -> float:
