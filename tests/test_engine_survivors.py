@@ -314,8 +314,8 @@ def test_a_watched_run_is_the_direct_run_argument_for_argument(method):
 
 @pytest.mark.parametrize("method", ["dopri5", "cvodes"])
 def test_the_reference_columns_are_the_reference_and_its_rate(method):
-    """Catches the reference's rate taken at other times or of another order (engine._held:
-    ref(t, 1)), and a start state not the reference's (simulate_controlled's default q0, qd0
+    """Catches the reference's rate taken at other times or of another order (the compiled
+    controller's reference, ``control_values``), and a start state not the reference's (simulate_controlled's default q0, qd0
     for a Signal over every coordinate): PD along a straight-line reference
     q_r(t) = a + (b - a) t on the 2-dof arm, run from 0.2 s: q_ref is that line and qd_ref its
     slope b - a at every output sample, and the run starts on the line at 0.2 s with its

@@ -95,6 +95,7 @@ typedef struct {
     terms_fn terms;
     Control *ctl;
     double tau_cmd[MAXN], tau_app[MAXN];  /* of the last control() call */
+    double q_ref[MAXN], qd_ref[MAXN];     /* its reference (modes 1 and 2) */
 } System;
 
 /* Gaussian elimination with partial pivoting; returns 1 if singular. */
@@ -139,14 +140,18 @@ static void signal_eval(const Signal *s, double t, int *hint, double *v, double 
     double x = t - s->T[k];
     int dp = s->deg + 1;
     for (int c = 0; c < s->n_ch; ++c) {
+        /* one Horner pass for the value and both derivatives (p2 is half the second): it
+         * runs at every right-hand side of a tracking run */
         const double *a = s->c + ((long long)k * s->n_ch + c) * dp;
-        double p0 = 0, p1 = 0, p2 = 0;
-        for (int j = s->deg; j >= 0; --j) p0 = p0 * x + a[j];
-        for (int j = s->deg; j >= 1; --j) p1 = p1 * x + j * a[j];
-        for (int j = s->deg; j >= 2; --j) p2 = p2 * x + j * (j - 1) * a[j];
+        double p0 = a[s->deg], p1 = 0, p2 = 0;
+        for (int j = s->deg - 1; j >= 0; --j) {
+            p2 = p2 * x + p1;
+            p1 = p1 * x + p0;
+            p0 = p0 * x + a[j];
+        }
         v[c] = p0;
         if (d1) d1[c] = p1;
-        if (d2) d2[c] = p2;
+        if (d2) d2[c] = 2.0 * p2;
     }
 }
 
@@ -155,7 +160,7 @@ static int control(System *sys, double t, const double *y) {
     Control *c = sys->ctl;
     int n = sys->n, na = sys->n_act, m = sys->m;
     const double *q = y, *qd = y + n;
-    double qr[MAXN], qdr[MAXN], qddr[MAXN];
+    double *qr = sys->q_ref, *qdr = sys->qd_ref, qddr[MAXN];
     double *tc = sys->tau_cmd;
     for (int a = 0; a < na; ++a) tc[a] = c->tau_const ? c->tau_const[a] : 0.0;
     if (c->input.n_knots) {
@@ -320,17 +325,24 @@ static void dense(int d, double theta, const double *y0, const double *y1, doubl
 }
 
 /* Evaluate the controller and the events at n samples (t, y), y rows of 2n: commanded and
- * applied torques (n x n_act each) and event values (n x n_ev). Returns 0, or 1 + the sample
- * the controller failed on. */
+ * applied torques (n x n_act each), event values (n x n_ev) and, for a tracking law (modes 1
+ * and 2), the reference and its rate (n x n_act each). Returns 0, or 1 + the sample the
+ * controller failed on. */
 int planar_sym_control_eval(int n, int m, int n_act, const int *act, const double *p,
                             Control *ctl, long long ns, const double *t, const double *y,
-                            double *tau_cmd, double *tau_app, double *ev) {
+                            double *tau_cmd, double *tau_app, double *ev, double *q_ref,
+                            double *qd_ref) {
     System sys = {n, m, n_act, act, 0, p, 0, 0, ctl};
+    int tracks = ctl->mode == 1 || ctl->mode == 2;
     for (long long s = 0; s < ns; ++s) {
         const double *ys = y + s * 2 * n;
         if (control(&sys, t[s], ys)) return (int)(s + 1);
         memcpy(tau_cmd + s * n_act, sys.tau_cmd, sizeof(double) * n_act);
         memcpy(tau_app + s * n_act, sys.tau_app, sizeof(double) * n_act);
+        if (tracks) {
+            memcpy(q_ref + s * n_act, sys.q_ref, sizeof(double) * n_act);
+            memcpy(qd_ref + s * n_act, sys.qd_ref, sizeof(double) * n_act);
+        }
         for (int k = 0; k < ctl->n_ev; ++k) ev[s * ctl->n_ev + k] = event_value(&sys, k, ys);
     }
     return 0;

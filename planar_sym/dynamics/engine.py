@@ -133,7 +133,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     specs += act_specs
     setup = _Setup(robot, plant, controller, ref, u, specs, bound)
     y0 = np.concatenate([q0, qd0, [0.0, 0.0]])
-    _, _, g0 = control_values(robot, setup, np.array([t0]), y0[None])
+    g0 = control_values(robot, setup, np.array([t0]), y0[None])[2]
     at_start = []
     for k, s in enumerate(specs):
         if g0[0, k] > 0:
@@ -174,8 +174,9 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     q, qd = ys[:, :n], ys[:, n:2 * n]
     if robot.is_closed_chain:
         events += assembly_changes(plant, t_out, q)
-    cmd, app, _ = control_values(robot, setup, t_out, ys)
-    q_ref, qd_ref = _held(controller, ref, t_out, n, act)
+    cmd, app, _, q_ref, qd_ref = control_values(robot, setup, t_out, ys)
+    if q_ref is None:  # the state an LQR law holds, or none
+        q_ref, qd_ref = _held(controller, t_out, n, act)
     if q_ref is None:  # open loop: no reference, no error
         q_ref, qd_ref = q[:, act], qd[:, act]
     # the plant's energies; its labels are the model's (the same description)
@@ -186,12 +187,10 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
                                events=tuple(sorted(events, key=lambda e: e.time_s)))
 
 
-def _held(ctl: Controller, ref: Signal | None, t: np.ndarray, n: int, act: list[int]):
-    """The actuated coordinates' reference and its rate at ``t`` (each (N, actuated)): the
-    tracked motion's, or the state an LQR law holds (of time along a TVLQR's motion); None
-    for an open-loop run."""
-    if ref is not None:
-        return ref(t), ref(t, 1)
+def _held(ctl: Controller, t: np.ndarray, n: int, act: list[int]):
+    """The state an LQR law holds on the actuated coordinates and its rate at ``t`` (each
+    (N, actuated); of time along a TVLQR's motion); None for an open-loop run. (A tracking
+    law's reference comes from the compiled controller, ``control_values``.)"""
     if ctl.kind != "lqr":
         return None, None
     x = (ctl.schedule(t)[:, :2 * n] if ctl.schedule is not None

@@ -123,22 +123,27 @@ def _functions():
     run.restype = ctypes.c_int
     ev = lib.planar_sym_control_eval
     ev.argtypes = [ctypes.c_int, ctypes.c_int, ctypes.c_int, _P, _P, ctypes.POINTER(_CControl),
-                   ctypes.c_longlong, _P, _P, _P, _P, _P]
+                   ctypes.c_longlong, _P, _P, _P, _P, _P, _P, _P]
     ev.restype = ctypes.c_int
     return run, ev
 
 
 def control_values(robot: Robot, setup: _Setup, t: np.ndarray, y: np.ndarray):
-    """Commanded and applied torques (N, actuated) and event values (N, events) at states
-    ``y`` (N, 2n) and times ``t`` (s), from the compiled controller."""
+    """Commanded and applied torques (N, actuated), event values (N, events) and the tracked
+    reference with its rate (each (N, actuated), rad or m and /s; None for a law that tracks
+    none) at states ``y`` (N, 2n) and times ``t`` (s), from the compiled controller."""
     _, ev = _functions()
     na, n_ev = len(robot.actuated), setup.c.n_ev
     t, y = _array(t), _array(y[:, :2 * robot.n])
     cmd, app = np.empty((len(t), na)), np.empty((len(t), na))
     g = np.empty((len(t), max(n_ev, 1)))
-    rc = ev(robot.n, robot.n_constraints, na, setup.act.ctypes.data, robot.p.ctypes.data, ctypes.byref(setup.c), len(t), t.ctypes.data,
-            y.ctypes.data, cmd.ctypes.data, app.ctypes.data, g.ctypes.data)
+    tracks = setup.c.mode in (1, 2)  # PD + gravity, computed torque: the reference's values
+    ref, ref_d = (np.empty((len(t), na)), np.empty((len(t), na))) if tracks else (None, None)
+    rc = ev(robot.n, robot.n_constraints, na, setup.act.ctypes.data, robot.p.ctypes.data,
+            ctypes.byref(setup.c), len(t), t.ctypes.data, y.ctypes.data, cmd.ctypes.data,
+            app.ctypes.data, g.ctypes.data, ref.ctypes.data if tracks else None,
+            ref_d.ctypes.data if tracks else None)
     if rc:
         raise SimulationError(f"{robot.name}: the controller failed at t = {t[rc - 1]:.6g} s "
                               "(a singular pose of the controller's model?)")
-    return cmd, app, g[:, :n_ev]
+    return cmd, app, g[:, :n_ev], ref, ref_d
