@@ -23,7 +23,7 @@ import pytest
 from conftest import ROOT, TEST_ROBOTS
 
 import planar_sym as ps
-from planar_sym.analysis import validate
+from planar_sym.analysis import validate, validate_rows
 from planar_sym.model.drive import DriveTrain
 
 GEARED = ROOT / "examples" / "serial_2dof_geared.toml"
@@ -76,6 +76,33 @@ def test_a_drive_train_that_differs_from_the_compiled_friction_fails(robots, mon
         lambda self: DriveTrain(tuple(drives), real.n)))
     rows = {r.check[:3]: r for r in validate.run_all(robot)}
     assert all(rows[k].status == "FAIL" for k in ("(b)", "(c)", "(d)")), rows
+
+
+def test_an_ill_conditioned_mass_matrix_passes_and_a_wrong_solve_still_fails(robots,
+                                                                             monkeypatch):
+    """A trial: a rotor of 0.5 kg*m^2 (plausible, the description allows up to 1) behind
+    the shoulder's 50:1 gear reflects 1250 kg*m^2 beside the elbow's 1.5e-3: cond(M) ~ 8e5.
+    (b) compared the forward dynamics' accelerations themselves, which a right solve gets
+    only to cond(M) times the torques' rounding (1.7e-7 > 1e-7: "FAILED" on a correct
+    robot). As the torques they imply (M qdd + h) they agree to rounding; a solve 1e-6 off
+    still fails (a shift of 1e-6 of its accelerations, which the Jacobian's differences
+    do not see)."""
+    robot = robots["geared"].with_parameters(jm_joint1=0.5)
+    q, qd, qdd, _ = validate_rows.random_states(robot, 20, 2)
+    assert np.linalg.cond(robot.mass_matrix(q)).max() > 1e5
+    forward = validate.lagrange_from_energy(robot, q, qd, qdd)
+    qdd_c = robot.tree_forward_dynamics(q, qd, forward["tau"])
+    forward_error = np.max(np.max(np.abs(qdd_c - qdd), 1) / np.max(np.abs(qdd), 1))
+    assert forward_error > 1e-7  # what the old measure reported: a false failure
+    row = validate.check_energy_route(robot)
+    assert row.status == "pass" and row.worst < 1e-7, row
+    real = robot.tree_forward_dynamics
+    monkeypatch.setattr(robot, "tree_forward_dynamics",
+                        lambda *a: np.asarray(real(*a)) + 1e-6 * np.max(np.abs(qdd)),
+                        raising=False)
+    row = validate.check_energy_route(robot)
+    assert row.status == "FAIL" and "forward_dynamics.qdd" in row.detail, row
+    assert row.worst > 5e-7
 
 
 class _Shifted:

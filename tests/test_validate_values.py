@@ -228,8 +228,7 @@ def test_energy_route_threshold(robots, monkeypatch, e, status):
 
 
 @pytest.mark.parametrize("name, out", [("bias", "h"), ("gravity", "g"),
-                                       ("tree_inverse_dynamics", "tau"),
-                                       ("tree_forward_dynamics", "qdd")])
+                                       ("tree_inverse_dynamics", "tau")])
 def test_energy_route_sees_each_fast_loop(robots, monkeypatch, name, out):
     robot = robots["serial_2dof"]
     _scaled_method(monkeypatch, robot, name, 1 + 1e-4)
@@ -238,6 +237,23 @@ def test_energy_route_sees_each_fast_loop(robots, monkeypatch, name, out):
                 "tree_forward_dynamics": "forward_dynamics"}.get(name, name)
     assert r.detail.startswith(f"worst: fast {quantity}.{out};"), r
     assert r.worst == pytest.approx(1e-4, rel=1e-4) and r.status == "FAIL"
+
+
+def test_energy_route_sees_the_fast_forward_dynamics_as_torques(robots, monkeypatch):
+    """The fast forward dynamics shifted by d (1e-4 rad/s^2 at each joint; a shift leaves
+    the differences its Jacobian is checked with unchanged) is reported as the torque it
+    implies: max_k ||M_k d||_inf / ||tau_k||_inf, M and tau of exactly the states drawn."""
+    robot = robots["serial_2dof"]
+    real = robot.tree_forward_dynamics
+    monkeypatch.setattr(robot, "tree_forward_dynamics", lambda *a: np.asarray(real(*a)) + 1e-4,
+                        raising=False)
+    r = validate.check_energy_route(robot, samples=5)
+    assert r.detail.startswith("worst: fast forward_dynamics.qdd;"), r
+    q, qd, qdd, _ = rows.random_states(robot, 5, 2)
+    m_d = robot.mass_matrix(q) @ np.full(2, 1e-4)
+    tau = robot.tree_inverse_dynamics(q, qd, qdd)
+    expected = np.max(np.max(np.abs(m_d), 1) / np.max(np.abs(tau), 1))
+    assert r.worst == pytest.approx(expected, rel=1e-6) and r.status == "FAIL"
 
 
 def test_energy_route_default_states(robots, monkeypatch):

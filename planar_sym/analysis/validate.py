@@ -17,6 +17,10 @@ Relative errors are normwise: at random states per sample, ``max_k ||a_k - b_k||
 A quantity that can be zero at every state (the velocity Jacobian of a 1-DOF robot, the
 gravity of a robot in a horizontal plane) is measured against its physical scale instead: the
 sampled accelerations per unit rate or angle, so rounding noise is never divided by itself.
+The forward dynamics' accelerations are compared as the torques they imply, ``M qdd + h``
+(M and h from the energy), against the torques they came from: a backward error, which an
+ill-conditioned M (a geared joint's reflected rotor a million times a light link's inertia)
+does not inflate, while a wrong solve still shows in full.
 """
 
 from __future__ import annotations
@@ -118,7 +122,12 @@ def check_energy_route(robot: Robot, samples: int = 20, seed: int = 2) -> Row:
                     f"{prefix}inverse_dynamics.tau": (r.tree_inverse_dynamics(q, qd, qdd),
                                                       ref["tau"])})
         if not robot.is_closed_chain:
-            got[f"{prefix}forward_dynamics.qdd"] = (r.tree_forward_dynamics(q, qd, ref["tau"]), qdd)
+            # as the torque it implies, M qdd + h (a backward error): where M is ill
+            # conditioned (a geared joint's rotor 1e6 times a light wrist's inertia), a right
+            # solve's qdd is off by cond(M) times the torques' rounding, a wrong one is not
+            qdd_c = r.tree_forward_dynamics(q, qd, ref["tau"])
+            got[f"{prefix}forward_dynamics.qdd"] = (
+                np.einsum("kij,kj->ki", ref["M"], qdd_c) + ref["h"], ref["tau"])
     if robot.is_closed_chain:
         terms = fns["constrained_terms"](samples, {"q": q, "qd": qd, "p": robot.p})
         got.update({"constrained_terms.M": (terms["M"], ref["M"]),
