@@ -419,7 +419,8 @@ def test_masses_inertias_and_stators_read_back():
 
 def test_the_drive_train_read_back():
     """armature N^2 J_m, damping b, frictionloss c per joint; the motors' gear N, the motor
-    torque limit as ctrlrange and the joint's as forcerange; the ideal machine none of them."""
+    torque limit as ctrlrange and the joint's over N as forcerange (MuJoCo clips the
+    actuator's force before its gear); the ideal machine none of them."""
     robot = load("rpr_geared")
     p = robot.parameters
     m = mj_model(quiet(to_mjcf, robot))
@@ -436,7 +437,7 @@ def test_the_drive_train_read_back():
     j1, j2 = m.actuator("joint1"), m.actuator("joint2")
     assert (j1.gear[0], j2.gear[0]) == (50.0, 30.0)
     assert j1.ctrllimited[0] and tuple(j1.ctrlrange) == (-0.02, 0.02)
-    assert j1.forcelimited[0] and tuple(j1.forcerange) == (-0.8, 0.8)
+    assert j1.forcelimited[0] and tuple(j1.forcerange) == (-0.8 / 50, 0.8 / 50)
     assert not j2.ctrllimited[0] and not j2.forcelimited[0]
     assert m.dof_frictionloss[m.joint("joint2").dofadr[0]] == 0.0  # no friction given
     for r in (robot, arm):
@@ -448,12 +449,21 @@ def test_the_drive_train_read_back():
 
 
 def test_a_joint_limit_alone_is_a_force_range():
-    """A drive with a joint-side limit and no motor limit: forcerange only."""
+    """A drive with a joint-side limit and no motor limit: forcerange only, and what MuJoCo
+    applies at the joint under any command is at most that limit (a trial: the joint-side
+    limit written as forcerange let the joint take 50 times it through the gear)."""
     model = quiet(from_robot, load("actuated_2dof"), drives=True)
     d1 = replace(model.drives[0], motor_torque_limit=None, torque_limit=1.5)
     m = mj_model(mjcf(replace(model, drives=(d1, *model.drives[1:])), viewer=True))
     a = m.actuator("joint1")
-    assert not a.ctrllimited[0] and a.forcelimited[0] and tuple(a.forcerange) == (-1.5, 1.5)
+    assert not a.ctrllimited[0] and a.forcelimited[0] and tuple(a.forcerange) == (-0.03, 0.03)
+    data = mujoco.MjData(m)
+    for command, applied in ((1e3, 1.5), (-1e3, -1.5), (0.01, 0.5)):  # motor N*m, joint N*m
+        data.ctrl[:] = 0.0
+        data.ctrl[a.id] = command
+        mujoco.mj_forward(m, data)
+        assert data.qfrc_actuator[m.joint("joint1").dofadr[0]] == pytest.approx(applied,
+                                                                                rel=1e-12)
 
 
 def test_point_masses_get_the_documented_inertia():
@@ -841,7 +851,8 @@ def test_the_drive_train_names_what_is_not_exact():
     assert comment(xml)[-1] == "Drive train, NOT exact here: " + "; ".join(said) + "."
     assert comment(xml)[-2] == (
         "Motors: one per actuated joint, gear = the gear ratio N, so ctrl = motor torque (N*m); "
-        "ctrlrange = the motor torque limit, forcerange = the joint-side limit where given. "
+        "ctrlrange = the motor torque limit, forcerange = the joint-side limit / N where given "
+        "(MuJoCo clips the motor-side force before the gear). "
         "Drive train: armature = N^2 J_m (rotor), J_m added to the inertia of the body carrying "
         "the stator, damping = viscous friction, frictionloss = Coulomb friction.")
     with warnings.catch_warnings():
@@ -867,7 +878,8 @@ def test_the_header_word_for_word():
         ("Inertia: diaginertia izz/2, izz/2, izz (ixx, iyy never enter planar dynamics). Geoms "
         "are visual only (density 0, no contacts): mass and inertia come from <inertial>."),
         ("Motors: one per actuated joint, gear = the gear ratio N, so ctrl = motor torque (N*m); "
-        "ctrlrange = the motor torque limit, forcerange = the joint-side limit where given. "
+        "ctrlrange = the motor torque limit, forcerange = the joint-side limit / N where given "
+        "(MuJoCo clips the motor-side force before the gear). "
         "Drive train: armature = N^2 J_m (rotor), J_m added to the inertia of the body carrying "
         "the stator, damping = viscous friction, frictionloss = Coulomb friction."),
         ("Point masses on their own joint (cart, pole): izz = 0 raised to 1e-12 m size^2 (at "
@@ -959,3 +971,81 @@ def test_mjcf_says_the_motor_speed_limit_has_no_place():
                                              r"place in MJCF"):
         xml = to_mjcf(robot)
     assert "joint1: the motor's speed limit 8000 rpm has no place in MJCF" in xml
+
+
+PRESS = """name = "press"
+title = "Offset slider-crank press (a trial's): the ram's centre of gravity below its pin"
+pose = "joints"
+gravity = [0.0, -9.81]
+[units]
+length = "m"
+mass = "kg"
+inertia = "kg*m^2"
+angle = "deg"
+acceleration = "m/s^2"
+[ground]
+points = { O = [0.0, 0.0], G = [0.02, 0.0] }
+[[bodies]]
+name = "crank"
+mass = 0.5
+izz = 1.0e-4
+cg = [0.025, 0.0]
+points = { O = [0.0, 0.0], A = [0.05, 0.0] }
+[[bodies]]
+name = "rod"
+mass = 1.0
+izz = 0.0033333333
+cg = [0.1, 0.0]
+points = { A = [0.0, 0.0], B = [0.2, 0.0] }
+[[bodies]]
+name = "ram"
+mass = 5.0
+izz = 0.01
+cg = [0.0, -0.05]
+points = { B = [0.0, 0.0] }
+[[joints]]
+name = "O"
+type = "revolute"
+parent = "ground.O"
+child = "crank.O"
+actuated = true
+angle = 60.0
+[[joints]]
+name = "A"
+type = "revolute"
+parent = "crank.A"
+child = "rod.A"
+actuated = false
+angle = -151.0
+[[joints]]
+name = "slide"
+type = "prismatic"
+parent = "ground.G"
+child = "ram.B"
+axis = [0.0, 1.0]
+actuated = false
+displacement = -0.156
+[[joints]]
+name = "B"
+type = "revolute"
+parent = "rod.B"
+child = "ram.B"
+actuated = false
+closes_loop = true
+"""
+
+
+def test_numbers_are_written_as_numbers_whatever_their_type(tmp_path):
+    """A trial: on this press (the ram's centre of gravity the lowest point, placed through a
+    slide's displacement) the drawn span came out as numpy floats, written with repr as
+    ``extent="np.float64(0.25)"`` in 13 attributes; export said "wrote press.xml" and MuJoCo
+    refused the file. Every number goes through ``export_model.numbers``: the file loads, and
+    its extent is the drawn span."""
+    path = tmp_path / "press.toml"
+    path.write_text(PRESS)
+    model = export_model.from_description(load_description(path))
+    (cx, cy), size = model.span_m()
+    xml = mjcf(model, viewer=True, solref=(0.02, 1.0), solimp=(0.9, 0.95, 0.001))
+    assert "np." not in xml and "float64" not in xml
+    m = mj_model(xml)
+    assert m.stat.extent == float(size) and tuple(m.stat.center[:2]) == (float(cx), float(cy))

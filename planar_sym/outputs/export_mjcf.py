@@ -44,7 +44,9 @@ The drive train (``Robot.drive_train``), unless the ideal machine is asked for (
 * viscous friction: ``damping = b`` (exact); Coulomb friction: ``frictionloss = c``, MuJoCo's dry
   friction (a soft constraint), not planar-sym's ``c tanh(qd / v_s)``;
 * the motor: ``gear = N``, so ``ctrl`` is the motor torque (N*m); ``ctrlrange`` the motor's
-  torque limit, ``forcerange`` the joint-side limit, where the description gives them.
+  torque limit, ``forcerange`` the joint-side limit over N, where the description gives them
+  (MuJoCo clips the actuator's force, ``gain * ctrl``, to ``forcerange`` and then multiplies
+  it by the gear: the joint gets at most the joint-side limit).
 
 The ideal machine: no armature, damping or friction, ``gear = 1`` (``ctrl`` the joint torque,
 N*m or N), unlimited.
@@ -125,7 +127,7 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
     equalities: list[str] = []
     (cx0, cy0), size = model.span_m()
     radius = 0.01 * size
-    site_size = f' size="{radius!r}"' if viewer else ""
+    site_size = f' size="{_v(radius)}"' if viewer else ""
     if loops:
         for j in model.cuts:
             if j.type != "revolute":
@@ -156,7 +158,7 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
         cx, cy = child.points_m[j.child_point]
         rel = model.rel_angle(j)
         q0 = (ref or {}).get(j.name, 0.0)
-        at = f' ref="{q0!r}"' if q0 else ""
+        at = f' ref="{_v(q0)}"' if q0 else ""
         at += _drive_attributes(drives.get(j.name))
         if j.type == "revolute":
             rel += q0  # turned about the joint point to the laid-out pose
@@ -177,7 +179,7 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
         izz = child.izz_kg_m2 + stators.get(j.child, 0.0)
         if viewer and izz == 0.0 and j.moves:  # MuJoCo refuses it (point_mass_inertia)
             izz = point_mass_inertia(model, child.mass_kg)
-        inertial = (f'<inertial pos="{_v(*child.cg_m, 0)}" mass="{child.mass_kg!r}" '
+        inertial = (f'<inertial pos="{_v(*child.cg_m, 0)}" mass="{_v(child.mass_kg)}" '
                     f'diaginertia="{_v(izz / 2, izz / 2, izz)}"/>')
         geoms = _geoms(child.cg_m, child.points_m.values(), radius) if viewer else ""
         bodies[j.child] = (f'<body name="{j.child}" pos="{_v(*pos)}" quat="{_v(*quat)}">'
@@ -196,14 +198,14 @@ def mjcf(model: RigidModel, *, timestep: float = 1e-3, loops: bool = False,
     tree += ["      " + site for site in sites.get(GROUND, ())]  # ground's frame is the world
     opening = [f'<mujoco model="{model.name}">',
                '  <compiler angle="radian" inertiafromgeom="false"/>',
-               f'  <option gravity="{_v(gx, gy, 0)}" timestep="{timestep!r}" integrator="RK4"/>']
+               f'  <option gravity="{_v(gx, gy, 0)}" timestep="{_v(timestep)}" integrator="RK4"/>']
     motors: list[str] = []
     if viewer:
         tree = [f"      {_sphere(xy, 1.5 * radius)}"
                 for xy in model.bodies[GROUND].points_m.values()] + tree
         tree.insert(0, f'      <camera name="plane" pos="{_v(cx0, cy0, 2.0 * size)}"/>')
         opening = [f"<!--\n{_comment(model, solref, solimp)}\n-->", *opening,
-                   f'  <statistic center="{_v(cx0, cy0, 0)}" extent="{size!r}"/>',
+                   f'  <statistic center="{_v(cx0, cy0, 0)}" extent="{_v(size)}"/>',
                    "  <default>",
                    ('    <geom contype="0" conaffinity="0" density="0" group="1" '
                    'rgba="0.35 0.55 0.8 1"/>'),
@@ -226,7 +228,7 @@ def _drive_attributes(drive) -> str:
     for name, value in (("armature", drive.gear_ratio**2 * drive.rotor_inertia),
                         ("damping", drive.viscous), ("frictionloss", drive.coulomb)):
         if value:
-            out += f' {name}="{value!r}"'
+            out += f' {name}="{_v(value)}"'
     return out
 
 
@@ -235,16 +237,17 @@ def _motor(joint: str, drive) -> str:
     attrs = f'name={quoteattr(joint)} joint={quoteattr(joint)}'
     if drive is None:
         return f'    <motor {attrs} gear="1"/>'
-    attrs += f' gear="{drive.gear_ratio!r}"'
+    attrs += f' gear="{_v(drive.gear_ratio)}"'
     if drive.motor_torque_limit is not None:
         attrs += f' ctrllimited="true" ctrlrange="{_v(-drive.motor_torque_limit, drive.motor_torque_limit)}"'
-    if drive.torque_limit is not None:
-        attrs += f' forcelimited="true" forcerange="{_v(-drive.torque_limit, drive.torque_limit)}"'
+    if drive.torque_limit is not None:  # MuJoCo clips the actuator's force before its gear
+        motor_side = drive.torque_limit / drive.gear_ratio
+        attrs += f' forcelimited="true" forcerange="{_v(-motor_side, motor_side)}"'
     return f"    <motor {attrs}/>"
 
 
 def _sphere(xy, r: float) -> str:
-    return f'<geom type="sphere" pos="{_v(*xy, 0)}" size="{r!r}"/>'
+    return f'<geom type="sphere" pos="{_v(*xy, 0)}" size="{_v(r)}"/>'
 
 
 def _geoms(cg, points, r: float) -> str:
@@ -253,7 +256,7 @@ def _geoms(cg, points, r: float) -> str:
     out = [_sphere(cg, 1.5 * r)]
     for x, y in points:
         if math.hypot(x - cg[0], y - cg[1]) > 1e-9:
-            out.append(f'<geom type="capsule" fromto="{_v(*cg, 0, x, y, 0)}" size="{r!r}"/>')
+            out.append(f'<geom type="capsule" fromto="{_v(*cg, 0, x, y, 0)}" size="{_v(r)}"/>')
     return "".join(out)
 
 
@@ -262,8 +265,8 @@ def _motors_sentence(model: RigidModel) -> str:
         return ("Motors: one per actuated joint, ctrl = joint torque (N*m) or force (N), "
                 "unlimited (the ideal machine: no rotors, friction or gears).")
     return ("Motors: one per actuated joint, gear = the gear ratio N, so ctrl = motor torque "
-            "(N*m); ctrlrange = the motor torque limit, forcerange = the joint-side limit where "
-            "given. Drive train: armature = N^2 J_m (rotor), J_m added to the inertia of the "
+            "(N*m); ctrlrange = the motor torque limit, forcerange = the joint-side limit / N "
+            "where given (MuJoCo clips the motor-side force before the gear). Drive train: armature = N^2 J_m (rotor), J_m added to the inertia of the "
             "body carrying the stator, damping = viscous friction, frictionloss = Coulomb "
             "friction.")
 

@@ -94,12 +94,12 @@ def _inexact(train, joints) -> tuple[str, ...]:
     for d in train.drives:
         if d.rotor_inertia:
             out.append(f"jm_{d.joint}: URDF has no rotor: its N^2 J_m = "
-                       f"{d.gear_ratio ** 2 * d.rotor_inertia!r} kg*m^2 at {d.joint} (and J_m on "
+                       f"{_v(d.gear_ratio ** 2 * d.rotor_inertia)} kg*m^2 at {d.joint} (and J_m on "
                        "its stator's body) is not exported (Pinocchio: model.armature; the MJCF "
                        "export carries it)")
         if d.coulomb:
-            out.append(f"fc_{d.joint}: Coulomb friction {d.coulomb!r} is URDF's dry friction "
-                       f"here, not the smooth c tanh(qd / {d.smoothing!r}) of planar-sym")
+            out.append(f"fc_{d.joint}: Coulomb friction {_v(d.coulomb)} is URDF's dry friction "
+                       f"here, not the smooth c tanh(qd / {_v(d.smoothing)}) of planar-sym")
     return tuple(out)
 
 
@@ -108,7 +108,7 @@ def _drive_lines(d, prismatic: bool) -> list[str]:
     ``UNLIMITED`` where the actuator gives none)."""
     out = []
     if d is not None and (d.viscous or d.coulomb):
-        out.append(f'    <dynamics damping="{d.viscous!r}" friction="{d.coulomb!r}"/>')
+        out.append(f'    <dynamics damping="{_v(d.viscous)}" friction="{_v(d.coulomb)}"/>')
     limits = [] if d is None else [v for v in (
         d.torque_limit, None if d.motor_torque_limit is None
         else d.motor_torque_limit * d.gear_ratio) if v is not None]
@@ -116,9 +116,9 @@ def _drive_lines(d, prismatic: bool) -> list[str]:
     velocity = (None if d is None or d.motor_speed_limit_rad_s is None
                 else d.motor_speed_limit_rad_s / d.gear_ratio)
     if prismatic or effort is not None or velocity is not None:
-        span = f'lower="{-UNLIMITED!r}" upper="{UNLIMITED!r}" ' if prismatic else ""
-        out.append(f'    <limit {span}effort="{UNLIMITED if effort is None else effort!r}" '
-                   f'velocity="{UNLIMITED if velocity is None else velocity!r}"/>')
+        span = f'lower="{_v(-UNLIMITED)}" upper="{_v(UNLIMITED)}" ' if prismatic else ""
+        out.append(f'    <limit {span}effort="{_v(UNLIMITED if effort is None else effort)}" '
+                   f'velocity="{_v(UNLIMITED if velocity is None else velocity)}"/>')
     return out
 
 
@@ -141,9 +141,9 @@ def urdf(model: RigidModel) -> str:
         links += [f'  <link name="{name}">',
                   "    <inertial>",
                   f'      <origin xyz="{_v(*cg, 0)}" rpy="0 0 0"/>',
-                  f'      <mass value="{body.mass_kg!r}"/>',
-                  (f'      <inertia ixx="{izz / 2!r}" ixy="0" ixz="0" iyy="{izz / 2!r}" iyz="0" '
-                  f'izz="{izz!r}"/>'),
+                  f'      <mass value="{_v(body.mass_kg)}"/>',
+                  (f'      <inertia ixx="{_v(izz / 2)}" ixy="0" ixz="0" iyy="{_v(izz / 2)}" iyz="0" '
+                  f'izz="{_v(izz)}"/>'),
                   "    </inertial>",
                   *_visuals(cg, [(x - ox, y - oy) for x, y in body.points_m.values()], radius),
                   "  </link>"]
@@ -196,7 +196,7 @@ def _visuals(cg, points, r: float) -> list[str]:
         if length > 1e-9:  # a z-cylinder turned onto the segment: pitch pi/2, then yaw
             mid = (cg[0] + dx / 2, cg[1] + dy / 2)
             out.append(_visual(mid, math.atan2(dy, dx),
-                               f'<cylinder radius="{r!r}" length="{length!r}"/>', pitch=True))
+                               f'<cylinder radius="{_v(r)}" length="{_v(length)}"/>', pitch=True))
     return out
 
 
