@@ -20,6 +20,7 @@ from . import block_triangular
 from .articulated import Articulated
 from .factor import solve_spd
 from .recursion import Symbols, walk
+from .tracking import tracking
 
 CLOSED, AD = "closed form", "algorithmic differentiation"
 
@@ -159,7 +160,8 @@ def _forward(fn, qs: Quantities) -> list[Generated]:
     return [forward,
             fn("forward_dynamics_jacobian", [("q", q), ("qd", qd), ("tau", tau), ("p", p)],
                [("dqdd_dq", both[:, :n]), ("dqdd_dqd", both[:, n:])],
-               "Jacobian of the forward dynamics, for implicit integrators")]
+               "Jacobian of the forward dynamics, for implicit integrators"),
+            *tracking(fn, qs.desc, s, qs.gravity, qs.inverse_dynamics, forward.function)]
 
 
 def _closed_inverse_dynamics(fn, qs: Quantities) -> Generated:

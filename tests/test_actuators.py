@@ -13,6 +13,8 @@ and friction D1 = b qd1 + c tanh(qd1 / 0.01) at joint 1.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 from conftest import TEST_ROBOTS, rel_err
@@ -156,3 +158,31 @@ def test_an_actuator_on_a_passive_joint_is_refused(tmp_path):
     problems = _bad(tmp_path, "actuated = true\n[joints.actuator]",
                     "actuated = false\n[joints.actuator]")
     assert any("only an actuated joint has an actuator" in p for p in problems), problems
+
+
+@pytest.mark.parametrize("typed, accel, hint", [
+    # a kg*m^2 figure typed in this kg*mm^2 file: 5e-13 kg*m^2, 4e10 rad/s^2
+    ("5e-07", "4e+10", "in kg*m^2 it would be 4e+04 rad/s^2"),
+    # a g*mm^2 figure typed as kg*mm^2: 5e-4 kg*m^2, 40 rad/s^2
+    ("500", "40", "in g*mm^2 it would be 4e+04 rad/s^2; in g*cm^2 it would be 400 rad/s^2"),
+])
+def test_a_rotor_its_motor_could_not_turn_is_asked_about(tmp_path, typed, accel, hint):
+    """A trial: a rotor inertia typed in the wrong unit (a kg*cm^2 catalogue figure in a
+    g*mm^2 description) passed every check and made the motor torque 3.7 times too low. The
+    motor torque limit over J_m, the unloaded rotor's acceleration, is outside 1e2 to 1e7
+    rad/s^2 (catalogue motors: 3e3 to 2e5): a warning names the field, the figure and the
+    units that would make it plausible. The robot as shipped (0.5 kg*mm^2, 0.02 N*m: 4e4
+    rad/s^2) loads without one."""
+    src = (TEST_ROBOTS / "actuated_2dof.toml").read_text()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        description.load(TEST_ROBOTS / "actuated_2dof.toml")
+    p = tmp_path / "slip.toml"
+    p.write_text(src.replace("rotor_inertia = 0.5", f"rotor_inertia = {typed}", 1))
+    with pytest.warns(RuntimeWarning) as rec:
+        description.load(p)
+    said = [str(w.message) for w in rec if "rotor_inertia" in str(w.message)]
+    assert len(said) == 1, said
+    assert f"joints[0] (joint1).actuator.rotor_inertia: {float(typed):g} kg*mm^2" in said[0]
+    assert f"the motor would turn its own rotor at {accel} rad/s^2 unloaded" in said[0]
+    assert said[0].endswith(f"a unit slip? ({hint})")

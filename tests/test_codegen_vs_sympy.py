@@ -18,6 +18,7 @@ import sympy as sp
 from conftest import ALL_ROBOTS, TEST_ROBOTS, random_states, record, rel_err
 
 from derive.model import build
+from derive.tracking import TRACKING_MAX_N
 from planar_sym.model import description
 from planar_sym.model.locate import load
 
@@ -203,6 +204,41 @@ def test_tree_forward_dynamics(case, worst_errors):
     _check(worst_errors, f"sympy dqdd/dqd {name}", raw["dqdd_dqd"], dqd_ref)
 
 
+def test_tracking_functions(case, worst_errors):
+    """The fused controller and plant (derive/tracking.py) against the SymPy model: tau_cmd
+    from the SymPy g or M qdd + h at the nominal parameters (the robot's, scaled: a model
+    error), clipped where the limits bind (lo, hi drawn so about half the torques clip), then
+    the SymPy forward dynamics at the plant's own parameters."""
+    name, ref, robot, q, qd, _, _ = case
+    if "tracking_pd" not in robot.library.manifest["functions"]:
+        pytest.skip("no fused tracking function (a closed chain, or past TRACKING_MAX_N)")
+    act, n_s = list(robot.actuated), len(q)
+    rng = np.random.default_rng(11)
+    p, p_nom = robot.p, robot.p * rng.uniform(0.8, 1.2, robot.p.shape)
+    qr, qdr, qddr, tau_in = (rng.uniform(-1, 1, (n_s, len(act))) for _ in range(4))
+    kp, kd = rng.uniform(1, 50, (n_s, len(act))), rng.uniform(0.1, 5, (n_s, len(act)))
+    lo, hi = -rng.uniform(0, 2, (n_s, len(act))), rng.uniform(0, 2, (n_s, len(act)))
+    e = kp * (qr - q[:, act]) + kd * (qdr - qd[:, act])
+    v = np.zeros_like(q)
+    v[:, act] = qddr + kd * (qdr - qd[:, act]) + kp * (qr - q[:, act])
+    laws = {"tracking_pd": (tau_in + e + ref("g", p_nom, q)[..., 0][:, act], {}),
+            "tracking_ct": (tau_in + ref("tau", p_nom, q, qd, v)[..., 0][:, act],
+                            {"qdd_ref": qddr})}
+    clipped = 0
+    for fn, (tau_cmd, extra) in laws.items():
+        args = {"q": q, "qd": qd, "q_ref": qr, "qd_ref": qdr, **extra, "kp": kp, "kd": kd,
+                "tau_in": tau_in, "lo": lo, "hi": hi, "p": p, "p_nom": np.tile(p_nom, (n_s, 1))}
+        raw = robot.library.functions[fn](n_s, args)
+        tau_app = np.clip(tau_cmd, lo, hi)
+        full = np.zeros_like(q)
+        full[:, act] = tau_app
+        _check(worst_errors, f"sympy {fn} tau_cmd {name}", raw["tau_cmd"], tau_cmd)
+        _check(worst_errors, f"sympy {fn} tau_app {name}", raw["tau_app"], tau_app)
+        _check(worst_errors, f"sympy {fn} qdd {name}", raw["qdd"], ref.forward(p, q, qd, full)[0])
+        clipped += int(np.sum(tau_app != tau_cmd))
+    assert clipped > n_s // 2  # the limits bind on many samples: the clip is exercised
+
+
 def test_every_generated_function_is_covered(case):
     """A function added to the code generator must get a comparison here."""
     _, _, robot, *_ = case
@@ -211,6 +247,8 @@ def test_every_generated_function_is_covered(case):
     covered |= ({"constraint", "constraint_jacobian", "constraint_bias", "constrained_terms",
                  "closed_inverse_dynamics", "closed_regressor"}
                 if robot.is_closed_chain else {"forward_dynamics", "forward_dynamics_jacobian"})
+    if not robot.is_closed_chain and robot.actuated and robot.n <= TRACKING_MAX_N:
+        covered |= {"tracking_pd", "tracking_ct"}  # test_tracking_functions
     covered |= {"regressor"}  # below, and in tests/test_identify.py
     covered |= {"ik_terms"} if robot.task_names else set()
     assert set(robot.library.manifest["functions"]) == covered

@@ -100,7 +100,8 @@ def test_derivation_is_deterministic(tmp_path):
     _derive(tmp_path / "a", "serial_2dof", seed="2")
     _derive(tmp_path / "b", "serial_2dof", seed="12345")
     a, b = _tree(tmp_path / "a"), _tree(tmp_path / "b")
-    # 7 files, and 12 functions saved for CasADi (the regressor and ik_terms too)
-    assert a.keys() == b.keys() and len(a) == 19
+    # 7 files, and 14 functions saved for CasADi (the regressor, ik_terms and the two fused
+    # tracking functions too)
+    assert a.keys() == b.keys() and len(a) == 21
     for name in a:
         assert a[name] == b[name], f"{name} differs between two derivations"

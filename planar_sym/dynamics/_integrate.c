@@ -46,6 +46,16 @@ typedef int (*cid_fn)(long long, const double *, const double *, const double *,
                       double *, double *, double *, double *, double *, double *);
 typedef int (*jac_fn)(long long, const double *, const double *, double *);
 typedef int (*bias_fn)(long long, const double *, const double *, const double *, double *);
+/* the fused controller and plant (derive/tracking.py): q, qd, q_ref, qd_ref[, qdd_ref], kp, kd,
+ * tau_in, lo, hi, p, p_nom -> qdd, tau_cmd, tau_app */
+typedef int (*pd_fn)(long long, const double *, const double *, const double *, const double *,
+                     const double *, const double *, const double *, const double *,
+                     const double *, const double *, const double *, double *, double *,
+                     double *);
+typedef int (*ct_fn)(long long, const double *, const double *, const double *, const double *,
+                     const double *, const double *, const double *, const double *,
+                     const double *, const double *, const double *, const double *, double *,
+                     double *, double *);
 
 /* A piecewise polynomial of n_ch channels: on [T[k], T[k+1]] channel c is
  * sum_j c[(k * n_ch + c) * (deg + 1) + j] (t - T[k])^j. Before T[0] or after T[n-1] the end
@@ -84,6 +94,7 @@ typedef struct {
                                  u_ref (n_act), gain (n_act x 2n), replacing the three above */
     double *sched_v;          /* its values at t (scratch, one per channel) */
     int hint_sched;
+    void *tracking;           /* modes 1, 2 of a tree: the fused controller and plant, or 0 */
 } Control;
 
 typedef struct {
@@ -241,13 +252,38 @@ static int control(System *sys, double t, const double *y) {
     return 0;
 }
 
+/* Modes 1 and 2 of a tree in one generated call (derive/tracking.py): the controller's
+ * torques and the plant's accelerations, sharing every sine; writes qdd to dy + n. */
+static int tracked(System *sys, double t, const double *y, double *dy) {
+    Control *c = sys->ctl;
+    int n = sys->n, na = sys->n_act;
+    double tin[MAXN], qddr[MAXN], lo[MAXN], hi[MAXN];
+    for (int a = 0; a < na; ++a) {
+        tin[a] = c->tau_const ? c->tau_const[a] : 0.0;
+        lo[a] = c->saturate ? c->lo[a] : -INFINITY;
+        hi[a] = c->saturate ? c->hi[a] : INFINITY;
+    }
+    if (c->input.n_knots) {
+        double u[MAXN];
+        signal_eval(&c->input, t, &c->hint_input, u, 0, 0);
+        for (int a = 0; a < na; ++a) tin[a] += u[a];
+    }
+    signal_eval(&c->ref, t, &c->hint_ref, sys->q_ref, sys->qd_ref, qddr);
+    if (c->mode == 1)
+        return ((pd_fn)c->tracking)(1, y, y + n, sys->q_ref, sys->qd_ref, c->kp, c->kd, tin, lo,
+                                    hi, sys->p, c->p_nom, dy + n, sys->tau_cmd, sys->tau_app);
+    return ((ct_fn)c->tracking)(1, y, y + n, sys->q_ref, sys->qd_ref, qddr, c->kp, c->kd, tin,
+                                lo, hi, sys->p, c->p_nom, dy + n, sys->tau_cmd, sys->tau_app);
+}
+
 static int rhs(System *sys, double t, const double *y, double *dy) {
     int n = sys->n, m = sys->m, k = n + m, na = sys->n_act;
     const double *tau_act = sys->tau;  /* n_act torques (closed) or n (tree) */
     double tau_full[MAXN];
     memcpy(dy, y + n, sizeof(double) * n);
+    int fused = sys->ctl && sys->ctl->tracking && sys->fd;
     if (sys->ctl) {
-        int rc = control(sys, t, y);
+        int rc = fused ? (tracked(sys, t, y, dy) ? 1 : 0) : control(sys, t, y);
         if (rc) return rc == 2 ? 2 : 1;
         tau_act = sys->tau_app;
         if (sys->fd) {
@@ -265,6 +301,7 @@ static int rhs(System *sys, double t, const double *y, double *dy) {
         }
         dy[2 * n] = w;
         dy[2 * n + 1] = f;
+        if (fused) return 0;
     }
     if (sys->fd) return sys->fd(1, y, y + n, tau_act, sys->p, dy + n);
     double M[MAXN * MAXN], h[MAXN], J[MAXN * MAXN], g[MAXN], A[MAXK * MAXK], b[MAXK];

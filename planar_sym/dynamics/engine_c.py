@@ -19,6 +19,11 @@ from .segments import friction
 
 _P = ctypes.c_void_p
 MAX_EVENTS_LOGGED = 256
+#: a tracking law (PD + gravity, computed torque) on a tree calls the generated fused
+#: controller-and-plant function (``derive/tracking.py``) where the robot has one; False: the
+#: controller's and the plant's functions one after the other (the same numbers to rounding)
+FUSED = True
+TRACKING = {1: "tracking_pd", 2: "tracking_ct"}  # Control.mode -> the fused function
 
 
 class _CSignal(ctypes.Structure):
@@ -38,7 +43,7 @@ class _CControl(ctypes.Structure):  # mirrors Control in _integrate.c
                 ("stopped", ctypes.c_int), ("t_stop", ctypes.c_double), ("y_stop", _P),
                 ("hint_ref", ctypes.c_int), ("hint_input", ctypes.c_int),
                 ("gain", _P), ("x_ref", _P), ("u_ref", _P), ("sched", _CSignal),
-                ("sched_v", _P), ("hint_sched", ctypes.c_int)]
+                ("sched_v", _P), ("hint_sched", ctypes.c_int), ("tracking", _P)]
 
 
 def _array(a, dtype=float) -> np.ndarray:
@@ -81,6 +86,9 @@ class _Setup:
                                ("jac", "constraint_jacobian"), ("bias", "constraint_bias")):
             if quantity in lib.manifest["functions"]:
                 setattr(c, slot, lib.address(quantity))
+        fused = TRACKING.get(ctl.mode) if FUSED and not plant.n_constraints else None
+        if fused in lib.manifest["functions"]:  # (a description derived before has none)
+            c.tracking = lib.address(fused)
         c.n_ev = len(events)
         c.ev_kind = self._ptr([e.kind for e in events], np.intc)
         c.ev_index = self._ptr([e.index for e in events], np.intc)

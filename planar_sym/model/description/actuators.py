@@ -87,6 +87,7 @@ class Actuators(Fields):
         inertia = scale.get("inertia")
         if "rotor_inertia" in values and inertia is not None:
             values["rotor_inertia"] *= inertia
+            self._rotor_against_motor(f, a["rotor_inertia"], values)
         if "rotor_inertia" in a and "gear_ratio" not in a and jtype == "prismatic":
             self.err(f"{f}.rotor_inertia", "a prismatic joint's rotor needs gear_ratio (rad of "
                                            "motor per m of travel) to move with the slide")
@@ -103,3 +104,29 @@ class Actuators(Fields):
             torque_constant=values.get("torque_constant"),
             winding_resistance=values.get("winding_resistance"),
             given=frozenset(a) - {"notes"})
+
+    def _rotor_against_motor(self, f: str, typed: float, values: dict) -> None:
+        """A rotor inertia its own motor could not plausibly turn: the motor torque limit
+        over J_m (rad/s^2, the unloaded rotor's acceleration) outside ROTOR_ACCELERATION, a
+        unit slip (a trial: a kg*cm^2 catalogue figure typed in g*mm^2 made the motor torque
+        3.7 times too low, typed in kg*m^2 a 65 kN*m crank torque, both with no word)."""
+        j, limit = values["rotor_inertia"], values.get("motor_torque_limit")
+        lo, hi = ROTOR_ACCELERATION
+        if not j or limit is None or lo <= limit / j <= hi:
+            return
+        unit = self.data["units"]["inertia"]
+        fits = {u: limit / (typed * k) for u, k in UNITS["inertia"].items()
+                if u != unit and lo <= limit / (typed * k) <= hi}
+        hint = "; ".join(f"in {u} it would be {a:.3g} rad/s^2" for u, a in fits.items())
+        si = "" if unit == "kg*m^2" else f" = {j:.3g} kg*m^2"
+        self.warn(f"{f}.rotor_inertia",
+                  f"{typed:g} {unit}{si} against a motor torque limit of {limit:g} N*m: the "
+                  f"motor would turn its own rotor at {limit / j:.3g} rad/s^2 unloaded "
+                  f"(catalogue motors: about 3e3 to 2e5; warned outside {lo:g} to {hi:g}): a "
+                  "unit slip?" + (f" ({hint})" if hint else ""))
+
+
+#: rad/s^2: the plausible range of a motor's torque limit over its rotor inertia (catalogue
+#: motors, from micro motors to servo and torque motors, lie between about 3e3 and 2e5)
+ROTOR_ACCELERATION = (1e2, 1e7)
+
