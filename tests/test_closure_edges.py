@@ -245,8 +245,8 @@ def test_a_failing_step_is_halved_max_halvings_times_then_refused(slider, monkey
         closure.solve_passive(slider, [[a], [b]], slider_closed_form(slider, [a])[0],
                               np.array([0.0, 0.5]))
     assert str(exc.value) == ("slider_crank: the loops cannot be closed at t = 0.5 s (sample 1) "
-                              "for actuated coordinates [0.027] (rad) (|Phi| = 1 m): outside "
-                              "the workspace")
+                              "for actuated coordinates [0.027] (rad; O = 1.54699 deg) (|Phi| = "
+                              "1 m): outside the workspace")
     assert closure.MAX_HALVINGS == 20
     targets = [g[0] for g in guesses[1:]]
     assert len(targets) == 21  # the whole step, then 20 halvings
@@ -281,7 +281,7 @@ def test_every_step_keeps_step_times_cond_at_most_one(par, monkeypatch):
 # ---------------------------------------------------------------- singular poses
 
 SINGULAR = ("{name}: singular pose {where}: the passive-joint constraint Jacobian Phi_p has "
-            "1-norm condition number {cond} > 1e+06")
+            "1-norm condition number {cond} > 1e+06")  # then where and what to do
 
 
 def test_a_singular_start_is_refused_between_the_first_two_samples(par):
@@ -289,19 +289,19 @@ def test_a_singular_start_is_refused_between_the_first_two_samples(par):
     between = "between t = 0 s (sample 0) and t = 0.5 s (sample 1)"
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(par, [[0.0], [0.1], [0.2]], [0, 0, 0], t)
-    assert str(exc.value) == SINGULAR.format(name="parallelogram", where=between, cond="inf")
+    assert str(exc.value).startswith(SINGULAR.format(name="parallelogram", where=between, cond="inf"))
     d = 1e-6
     cond = cond1(par, [d, -d, d])
     assert COND_LIMIT < cond < 1e7
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(par, [[d], [0.1], [0.2]], [d, -d, d], t)
-    assert str(exc.value) == SINGULAR.format(name="parallelogram", where=between,
-                                             cond=f"{cond:.3g}")
+    assert str(exc.value).startswith(SINGULAR.format(name="parallelogram", where=between,
+                                             cond=f"{cond:.3g}"))
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(par, [[d], [0.1]], [d, -d, d])
-    assert str(exc.value) == SINGULAR.format(name="parallelogram",
+    assert str(exc.value).startswith(SINGULAR.format(name="parallelogram",
                                              where="between sample 0 and sample 1",
-                                             cond=f"{cond:.3g}")
+                                             cond=f"{cond:.3g}"))
 
 
 def test_a_five_bar_start_at_its_workspace_edge_is_refused(five):
@@ -325,8 +325,8 @@ def test_a_five_bar_start_at_its_workspace_edge_is_refused(five):
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(five, [[left, lo], [left, 0.71]], guess, np.array([1.0, 2.0]))
     where = "between t = 1 s (sample 0) and t = 2 s (sample 1)"
-    assert str(exc.value) == SINGULAR.format(name="five_bar_type1", where=where,
-                                             cond=f"{cond:.3g}")
+    assert str(exc.value).startswith(SINGULAR.format(name="five_bar_type1", where=where,
+                                             cond=f"{cond:.3g}"))
 
 
 def test_a_singular_sample_reached_in_one_step_is_refused_at_it(par):
@@ -338,8 +338,8 @@ def test_a_singular_sample_reached_in_one_step_is_refused_at_it(par):
     t = np.array([0.0, 0.5, 1.0])
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(par, [[5e-6], [start], [end]], [5e-6, -5e-6, 5e-6], t)
-    assert str(exc.value) == SINGULAR.format(name="parallelogram",
-                                             where="at t = 1 s (sample 2)", cond=f"{cond:.3g}")
+    assert str(exc.value).startswith(SINGULAR.format(name="parallelogram",
+                                             where="at t = 1 s (sample 2)", cond=f"{cond:.3g}"))
 
 
 def test_a_singular_pose_closed_off_the_prediction_is_refused_at_the_sample(par, monkeypatch):
@@ -364,8 +364,8 @@ def test_a_singular_pose_closed_off_the_prediction_is_refused_at_the_sample(par,
     except np.linalg.LinAlgError:
         cond = np.inf
     assert cond > COND_LIMIT
-    assert str(exc.value) == SINGULAR.format(name="parallelogram", where="at t = 0.5 s (sample 1)",
-                                             cond=f"{cond:.3g}")
+    assert str(exc.value).startswith(SINGULAR.format(name="parallelogram", where="at t = 0.5 s (sample 1)",
+                                             cond=f"{cond:.3g}"))
     assert [g[0] for g in guesses] == pytest.approx([0.04, 0.0], abs=1e-15)
 
 
@@ -424,8 +424,8 @@ def test_an_unclosed_correction_in_the_other_mode_is_outside(four, monkeypatch):
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(four, [[1.0], [1.04], [1.08]], None, np.array([0.0, 0.25, 0.5]))
     assert str(exc.value) == ("four_bar: the loops cannot be closed at t = 0.5 s (sample 2) for "
-                              "actuated coordinates [1.08] (rad) (|Phi| = 1 m): outside the "
-                              "workspace")
+                              "actuated coordinates [1.08] (rad; crank_joint = 61.8794 deg) "
+                              "(|Phi| = 1 m): outside the workspace")
 
 
 def test_past_the_five_bar_edge_the_refusal_is_outside(five):
@@ -433,7 +433,8 @@ def test_past_the_five_bar_edge_the_refusal_is_outside(five):
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(five, [[left, 1.0], [left, 0.5]], None, np.array([0.0, 2.0]))
     assert re.fullmatch(r"five_bar_type1: the loops cannot be closed at t = 2 s \(sample 1\) "
-                        r"for actuated coordinates \[2\.073585212, 0\.5\] \(rad, rad\) "
+                        r"for actuated coordinates \[2\.073585212, 0\.5\] \(rad, rad; A = "
+                        r"118\.808 deg, E = 28\.6479 deg\) "
                         r"\(\|Phi\| = [0-9.e+-]+ m(, not below the 1e-13 m of closed loops: at "
                         r"or just past the edge of the workspace)?\): outside the workspace",
                         str(exc.value)), str(exc.value)

@@ -40,8 +40,15 @@ def test_a_change_point_is_met_and_refused_at_any_sampling(parallelogram, n):
     k = int(np.argmax(crank[:, 0] <= 0.0))  # the first sample at or past the change point
     between = (rf"between t = {t[k - 1]:.6g} s \(sample {k - 1}\) and t = {t[k]:.6g} s "
                rf"\(sample {k}\)")
-    assert re.fullmatch(rf"parallelogram: singular pose {between}: the passive-joint constraint "
-                        r"Jacobian Phi_p has 1-norm condition number [0-9.e+]+ > 1e\+06", msg), msg
+    got = re.fullmatch(rf"parallelogram: singular pose {between}: the passive-joint constraint "
+                       r"Jacobian Phi_p has 1-norm condition number [0-9.e+]+ > 1e\+06 \(actuated "
+                       r"coordinates there: \[([0-9.e+-]+)\] \(rad; crank_joint = ([0-9.e+-]+) "
+                       r"deg\)\): the actuated joints cannot drive the loops through this pose "
+                       r"\(a dead point .*\); end the motion short of it, or drive another joint",
+                       msg)
+    assert got, msg  # where: at the change point (crank 0), in rad and in degrees
+    assert abs(float(got[1])) < 1e-4 and float(got[2]) == pytest.approx(
+        np.degrees(float(got[1])), rel=1e-3)  # (the rad figure is rounded to 1e-9)
 
 
 @pytest.mark.parametrize("n", [2, 3, 5, 41])
@@ -59,7 +66,8 @@ def test_short_of_it_the_parallelogram_is_kept(parallelogram, n):
 
 def test_outside_the_workspace_is_named_by_sample_and_time():
     five = ps.load("five_bar_type2")
-    unit = r"\(rad, rad\) \(\|Phi\| = [0-9.e+-]+ m\): outside the workspace"
+    unit = (r"\(rad, rad; A = [0-9.e+-]+ deg, E = [0-9.e+-]+ deg\) \(\|Phi\| = [0-9.e+-]+ m\): "
+            r"outside the workspace")
     far = np.array([[np.pi, 0.0]])  # the proximal links cannot reach each other's elbows
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(five, far, None, np.array([0.25]))

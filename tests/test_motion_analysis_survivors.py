@@ -82,7 +82,7 @@ def force_cond(monkeypatch, cond):
 
 
 OUTSIDE = ("slider_crank: the loops cannot be closed at t = 0.5 s (sample 1) for actuated "
-           "coordinates [{qa}] (rad) ({why}): outside the workspace")
+           "coordinates [{qa}] (rad; O = {deg:.6g} deg) ({why}): outside the workspace")
 CLOSED_FAR = ("Newton closes them (|Phi| = {res} m) only at a pose away from where the motion "
               "goes on: another solution, not this motion's")
 T = np.array([0.0, 0.5])
@@ -118,7 +118,8 @@ def test_the_first_sample_is_refused_at_a_residual_of_exactly_the_tolerance(slid
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.5]], q0, T[1:])
     assert str(exc.value) == ("slider_crank: the loops cannot be closed at t = 0.5 s (sample 0) "
-                              "for actuated coordinates [0.5] (rad) (|Phi| = 1e-13 m, not below "
+                              "for actuated coordinates [0.5] (rad; O = 28.6479 deg) (|Phi| = "
+                              "1e-13 m, not below "
                               "the 1e-13 m of closed loops: at or just past the edge of the "
                               "workspace): outside the workspace")
     below = np.nextafter(TOL, 0.0)
@@ -138,7 +139,7 @@ def test_a_step_closed_to_exactly_the_tolerance_is_not_taken(slider, monkeypatch
     guesses = spy(monkeypatch, land)
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.0], [0.02]], closed_form(slider, [0.0])[0], T)
-    assert str(exc.value) == OUTSIDE.format(qa=0.02, why="|Phi| = 1e-13 m, not below the 1e-13 m of closed loops: at or just past the "
+    assert str(exc.value) == OUTSIDE.format(qa=0.02, deg=np.degrees(0.02), why="|Phi| = 1e-13 m, not below the 1e-13 m of closed loops: at or just past the "
                                                 "edge of the workspace")
     assert len(guesses) == 1 + 1 + closure.MAX_HALVINGS
 
@@ -170,7 +171,7 @@ def test_a_correction_exactly_half_the_prediction_away_is_near(slider, monkeypat
     guesses = spy(monkeypatch, off_by(np.nextafter(bound, 1.0)))
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.0], [0.0]], q0, T)
-    assert str(exc.value) == OUTSIDE.format(qa=0.0, why=CLOSED_FAR.format(res=0))
+    assert str(exc.value) == OUTSIDE.format(qa=0.0, deg=0.0, why=CLOSED_FAR.format(res=0))
     assert len(guesses) == 1 + 1 + closure.MAX_HALVINGS
 
 
@@ -189,7 +190,7 @@ def test_newton_closing_the_loops_a_turn_away_is_refused_as_another_solution(sli
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.0], [0.02]], closed_form(slider, [0.0])[0], T)
     assert res[-1] < TOL
-    assert str(exc.value) == OUTSIDE.format(qa=0.02, why=CLOSED_FAR.format(res=f"{res[-1]:.3g}"))
+    assert str(exc.value) == OUTSIDE.format(qa=0.02, deg=np.degrees(0.02), why=CLOSED_FAR.format(res=f"{res[-1]:.3g}"))
 
 
 # ---------------------------------------------------------------- the step guard at its edges

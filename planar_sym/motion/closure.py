@@ -7,6 +7,8 @@ at every cut joint; rates follow exactly from ``Phi_q qd = 0`` and ``Phi_q qdd =
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import InputError, WorkspaceError, warn_caller
@@ -73,12 +75,10 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
 
 
 def _warn_between(name: str, cond: np.ndarray, passed: np.ndarray, t) -> None:
-    """Warn where the continuation passed a pose nearer a singular one than any sample: Phi_p's
-    condition number on the way to sample k (``passed``, (N,)) above COND_WARN while every
-    sample's (``cond``) is below it. Torques and joint loads grow like the condition number
-    there, so their peaks fall between the samples and the sampled ones are too low (a trial:
-    a four-bar within 0.03 deg of its change point gave a 0.34 N*m peak at 101 samples, 137 at
-    100001, with no word; at fine samplings the samples themselves are warned about)."""
+    """Warn where Phi_p's condition number on the way to a sample (``passed``, (N,)) is above
+    COND_WARN while every sample's (``cond``) is below: torques and loads, which grow like it,
+    peak between the samples (a trial's four-bar near its change point: 0.34 N*m peak at 101
+    samples, 137 at 100001, no word). Finer samplings see it at the samples themselves."""
     if len(cond) < 2 or cond.max() > COND_WARN or passed.max() <= COND_WARN:
         return
     k = int(np.argmax(passed))
@@ -220,19 +220,33 @@ class _Loops:
                "at or just past the edge of the workspace")
         raise WorkspaceError(f"{robot.name}: the loops cannot be closed at {when(t, k)} "
                              f"for actuated coordinates {np.round(qa, 9).tolist()} "
-                             f"({', '.join(robot.coordinate_units[i] for i in self.act)}) "
-                             f"({why}): outside the workspace")
+                             f"({', '.join(robot.coordinate_units[i] for i in self.act)}"
+                             f"{self.degrees(qa)}) ({why}): outside the workspace")
+
+    def degrees(self, qa) -> str:
+        """``; name = D deg`` per revolute actuated coordinate of ``qa`` (rad): a study in
+        degrees reads its own numbers (a trial: "[3.141592654] (rad)" for a crank at 180)."""
+        said = [f"{self.robot.coordinates[i]} = {math.degrees(v):.6g} deg"
+                for i, v in zip(self.act, qa) if self.robot.coordinate_units[i] == "rad"]
+        return "; " + ", ".join(said) if said else ""
 
     def refuse_singular(self, cond: float, at_sample: bool, t, k: int,
-                        origin: str | None = None) -> None:
+                        origin: str | None = None, qa=None) -> None:
         """WorkspaceError for a pose whose Phi_p has 1-norm condition number ``cond`` above
         COND_LIMIT: sample ``k`` itself, or on the way from ``origin`` (default the sample
-        before)."""
+        before), where the actuated coordinates are ``qa`` (rad; m at a slider)."""
         where = (when(t, k) if at_sample
                  else f"between {origin or when(t, k - 1)} and {when(t, k)}")
+        units = ", ".join(self.robot.coordinate_units[i] for i in self.act)
+        there = ("" if qa is None else f" (actuated coordinates there: "
+                 f"{np.round(qa, 9).tolist()} ({units}{self.degrees(qa)}))")
         raise WorkspaceError(f"{self.robot.name}: singular pose {'at ' if at_sample else ''}"
                              f"{where}: the passive-joint constraint Jacobian Phi_p has "
-                             f"1-norm condition number {cond:.3g} > {COND_LIMIT:g}")
+                             f"1-norm condition number {cond:.3g} > {COND_LIMIT:g}{there}: the "
+                             "actuated joints cannot drive the loops through this pose (a dead "
+                             "point or limit position, as where a four-bar's crank that is not "
+                             "its shortest link stops turning); end the motion short of it, "
+                             "or drive another joint")
 
 
 class _Pose:
@@ -260,7 +274,7 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int,
     act, pas = loops.act, loops.pas
     origin = origin or when(t, k - 1)
     if not pose.cond <= COND_LIMIT:
-        loops.refuse_singular(pose.cond, False, t, k, origin)
+        loops.refuse_singular(pose.cond, False, t, k, origin, pose.q[act])
     qa_from, sign = pose.q[act].copy(), pose.sign
     span = qa_to - qa_from
     s, ds = 0.0, 1.0 / max(1, int(np.ceil(np.max(np.abs(span)) / MAX_STEP)))
@@ -286,7 +300,7 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int,
         if residual < NEWTON_TOL_M and near:
             new = _Pose(loops, trial)
             if not new.cond <= COND_LIMIT:
-                loops.refuse_singular(new.cond, s + ds >= 1.0, t, k, origin)
+                loops.refuse_singular(new.cond, s + ds >= 1.0, t, k, origin, new.q[act])
             if new.sign == sign:
                 pose, s, passed = new, s + ds, max(passed, new.cond)
                 if halvings:  # the step grows back once the hard part is passed
@@ -300,7 +314,7 @@ def _follow(loops: _Loops, pose: _Pose, qa_to: np.ndarray, t, k: int,
         return pose
     last = _Pose(loops, trial) if residual < NEWTON_TOL_M else None
     if last is not None and not last.cond <= COND_LIMIT:  # Newton closed it there: singular
-        loops.refuse_singular(last.cond, s + ds >= 1.0, t, k, origin)
+        loops.refuse_singular(last.cond, s + ds >= 1.0, t, k, origin, last.q[act])
     if last is not None and last.sign != sign:
         robot = loops.robot
         hint = ("; to start in another assembly mode, give a start pose in it (start_pose, "
