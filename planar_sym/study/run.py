@@ -81,7 +81,8 @@ def run(study: str | Path | specs.Study, samples: int | None = None) -> Result:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            result = run_on(st, robot_of(st), samples)
+            robot = robot_of(st)  # the study's robot, loaded before it runs
+            result = run_on(st, robot, samples)
         except BaseException as exc:  # noqa: BLE001 - re-raised below, after the warnings
             failed = exc
     for w in caught:  # as they were given, now under the caller's filters
