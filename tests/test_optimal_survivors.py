@@ -839,7 +839,8 @@ class _Script:
     def __init__(self, *outcomes):
         self.outcomes, self.calls = list(outcomes), []
 
-    def __call__(self, robot, a0, a1, objective, duration, lim, v, N, warm=None, seed=None):
+    def __call__(self, robot, a0, a1, objective, duration, lim, v, N, warm=None, seed=None,
+                 copper=None):
         self.calls.append((objective, duration, None if lim is None else tuple(lim),
                            None if v is None else tuple(v), N, warm))
         out = self.outcomes.pop(0)

@@ -180,17 +180,13 @@ def track(robot: Robot, req: Tracking) -> Tracked:
 def _tvlqr(robot: Robot, req: Tracking):
     """The time-varying LQR law along ``req.motion`` (its torques given or from the inverse
     dynamics), LQR about its end after it."""
-    from ..dynamics.along import inverse_along
     from .tvlqr import tvlqr
 
     jt, where = req.motion, (req.where + ": " if req.where else "")
     if req.q_weight is None or req.r_weight is None:
         raise InputError(f"{where}law \"lqr\" needs q_weight and r_weight")
-    tau = req.tau
-    if tau is None:
-        tau = inverse_along(robot, jt.t_s, jt.q, jt.qd, jt.qdd).tau
     try:
-        return tvlqr(robot, jt, tau, q_weight=req.q_weight,
+        return tvlqr(robot, jt, req.tau, q_weight=req.q_weight,
                      r_weight=req.r_weight).controller(req.saturate)
     except InputError as exc:
         raise InputError(f"{where}{exc}") from None

@@ -114,11 +114,12 @@ def spread(gain: np.ndarray, n: int, cols: list[int]) -> np.ndarray:
 REFERENCES = ("spline", "hermite")
 
 
-def tvlqr(robot: Robot, motion: JointTrajectory, tau, *, q_weight, r_weight,
+def tvlqr(robot: Robot, motion: JointTrajectory, tau=None, *, q_weight, r_weight,
           reference: str = "spline") -> TVLQR:
     """The time-varying LQR of ``robot`` along ``motion`` (every coordinate's samples; it must
     end at rest in an equilibrium) with the torques ``tau`` (N, actuated) N*m (N) that make
-    it, then the LQR about its end. Weights as ``lqr`` (SI, per unit of the state: rad^2,
+    it (default: the inverse dynamics along it, for a robot whose every joint is actuated or
+    set by the loops), then the LQR about its end. Weights as ``lqr`` (SI, per unit of the state: rad^2,
     (rad/s)^2, m^2...; per (N*m)^2 on the torques). ``reference``: how x_r and u_r run between
     the samples, ``"spline"`` or ``"hermite"`` (see the module's note).
 
@@ -134,10 +135,11 @@ def tvlqr(robot: Robot, motion: JointTrajectory, tau, *, q_weight, r_weight,
         raise InputError(f"motion must be a JointTrajectory (got {type(motion).__name__})")
     t = np.asarray(motion.t_s, dtype=float)
     na = len(robot.actuated)
-    tau = np.asarray(tau, dtype=float)
-    if tau.shape != (len(t), na) or not np.all(np.isfinite(tau)):
-        raise InputError(f"tau must be finite, shape ({len(t)}, {na}): one row per sample of "
-                         f"the motion, one column per actuated joint (got {tau.shape})")
+    if tau is not None:
+        tau = np.asarray(tau, dtype=float)
+        if tau.shape != (len(t), na) or not np.all(np.isfinite(tau)):
+            raise InputError(f"tau must be finite, shape ({len(t)}, {na}): one row per sample "
+                             f"of the motion, one column per actuated joint (got {tau.shape})")
     if len(t) < 2 or np.any(np.diff(t) <= 0):
         raise InputError("the motion's times must increase (at least 2 samples)")
     try:
@@ -149,6 +151,10 @@ def tvlqr(robot: Robot, motion: JointTrajectory, tau, *, q_weight, r_weight,
     if moving > 1e-6:
         raise InputError(f"the motion ends moving (|qd| {moving:.3g} per s): the law holds its "
                          "end, which must be at rest")
+    if tau is None:  # the torques that make the motion: its inverse dynamics
+        from ..dynamics.along import inverse_along
+
+        tau = inverse_along(robot, motion.t_s, motion.q, motion.qd, motion.qdd).tau
     lins = [linearize(robot, q, qd, u) for q, qd, u in zip(motion.q, motion.qd, tau)]
     a, b = np.stack([x.a for x in lins]), np.stack([x.b for x in lins])
     k2 = a.shape[1]

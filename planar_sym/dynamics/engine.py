@@ -25,7 +25,7 @@ from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal
 from ..progress import ambient, watching
 from .engine_c import MAX_EVENTS_LOGGED, _array, _functions, _Setup, control_values
-from .engine_inputs import _reference, _torque_input, check_controller
+from .engine_inputs import _reference, check_controller, engine_torque
 from .events import Event, actuator_events, joint_limit_events, output_events
 from .laws import Controller
 from .run_result import Simulation
@@ -111,11 +111,11 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     check_tolerances(rtol, atol)
     t = time_grid(t_span, t_eval)
     t0, t1 = float(t_span[0]), float(t_span[1])
-    n, na, act = robot.n, len(robot.actuated), list(robot.actuated)
+    n = robot.n
     ref = _reference(robot, reference, controller)
     if ref is not None:
         ref.covers(t0, t1, "the reference motion")
-    u = _torque_input(torque, na, t0, t1)
+    u = engine_torque(torque, na, t0, t1)
     if q0 is None:
         if isinstance(reference, JointTrajectory):
             q0 = reference.q[0] if reference.t_s[0] == t0 else None
@@ -128,6 +128,21 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     q0, qd0 = as_state(q0, qd0, n)
     if robot.is_closed_chain:
         q0, qd0 = initial_state(plant, q0, qd0, False, hint=CONTROLLED_HINT)
+    return run_checked(robot, plant, controller, ref, u, q0, qd0, t0, t, joint_limits,
+                       on_joint_limit, on_actuator_limit, method, rtol, atol, max_steps)
+
+
+def run_checked(robot: Robot, plant: Robot, controller: Controller, ref: Signal | None, u,
+                q0: np.ndarray, qd0: np.ndarray, t0: float, t: np.ndarray,
+                joint_limits: dict | None,
+                on_joint_limit: str, on_actuator_limit: str, method: str, rtol: float,
+                atol: float, max_steps: int) -> Simulation:
+    """``simulate_controlled`` on inputs checked already, by it or by ``forward.simulate``
+    (the open-loop law "none"): the reference ``ref`` a Signal over the actuated coordinates
+    covering the run (or None), the input ``u`` None, (actuated,) N*m or a Signal covering the
+    run, the state ``q0``, ``qd0`` (n,) at the start ``t0`` (s; a closed chain's on the
+    loops), the output times ``t`` (N,) in s and the tolerances; events and the run here."""
+    n, act = robot.n, list(robot.actuated)
     specs = joint_limit_events(robot, joint_limits, on_joint_limit)
     act_specs, bound = actuator_events(plant, on_actuator_limit)
     specs += act_specs

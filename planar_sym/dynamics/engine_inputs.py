@@ -67,7 +67,9 @@ def _reference(robot: Robot, reference, ctl: Controller) -> Signal | None:
                      f"actuated joints (got {type(reference).__name__})")
 
 
-def _torque_input(torque, na: int, t0: float, t1: float):
+def engine_torque(torque, na: int, t0: float, t1: float):
+    """Input torques as the compiled loop takes them: None, a Signal of ``na`` channels covering
+    ``t0`` to ``t1`` (s), or constant (na,) N*m (N at a slider); a function of time refused."""
     if torque is None or isinstance(torque, Signal):
         if isinstance(torque, Signal):
             check_torque(torque, na)  # its width, by simulate's rule

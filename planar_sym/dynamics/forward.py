@@ -28,6 +28,7 @@ from ..model.library import SingleCall
 from ..model.robot import Robot
 from ..motion.signals import Signal
 from ..progress import watching
+from .engine_inputs import check_controller, engine_torque
 from .integrate import (
     SCIPY_METHODS,
     Simulation,
@@ -119,6 +120,8 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
         def torque(tt: float) -> np.ndarray:  # SciPy calls it per step, in Python
             return signal(tt)[0]
     tau_of = _on_actuated(torque_function(torque, len(robot.actuated)), robot)
+    if engine:  # the compiled loop's rule: a table that covers the run, or constant torques
+        torque = engine_torque(torque, len(robot.actuated), float(t_span[0]), float(t_span[1]))
     q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
     if engine:
         return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, project)
@@ -202,12 +205,15 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
                    t: np.ndarray, rtol: float, atol: float, method: str,
                    project: bool) -> Simulation:
     """SUNDIALS in the simulation engine under the open-loop law "none": its Simulation without
-    the control fields (the events it saw kept). ``q0``, ``qd0`` and the output times ``t``
-    (s) are checked already (``simulate``)."""
-    from .engine import simulate_controlled
+    the control fields (the events it saw kept). ``q0``, ``qd0``, the input ``torque``
+    (``engine_torque``) and the output times ``t`` (s) are checked already (``simulate``), so
+    the engine's run is entered past ``simulate_controlled``'s checks (``run_checked``)."""
+    from .engine import run_checked
     from .laws import Controller
 
     n = robot.n
+    none = Controller("none")
+    check_controller(robot, none)  # a closed chain the loop cannot run is refused, by name
     correction = 0.0
     if robot.is_closed_chain:  # checked here, so a state off the loops hears of project=True
         from .forward_closed import initial_state
@@ -215,8 +221,9 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
         q_on, qd0 = initial_state(robot, q0, qd0, project_state=project)
         correction, q0 = float(np.max(np.abs(q_on - q0))), q_on
     act = list(robot.actuated)
-    run = simulate_controlled(robot, Controller("none"), t_span, q0=q0, qd0=qd0, torque=torque,
-                              t_eval=t, method=method, rtol=rtol, atol=atol)
+    # no joint-limit events; the engine's own step limit (simulate's max_steps is dopri5's)
+    run = run_checked(robot, robot, none, None, torque, q0, qd0, float(t_span[0]), t, None,
+                      "stop", "continue", method, rtol, atol, 10_000_000)
     tau = run.tau
     if not robot.is_closed_chain:  # a tree's torques on every coordinate, 0 at a passive one
         tau = np.zeros((len(run.t_s), n))

@@ -117,40 +117,20 @@ def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, 
     every setting given by the caller (no defaults of its own to drift from theirs)."""
     from scipy.integrate import solve_ivp
 
-
     act = list(robot.actuated)
-    n, m = robot.n, robot.n_constraints
+    n = robot.n
     q, qd = initial_state(robot, q0, qd0, project_state)
     correction = float(np.max(np.abs(q - q0)))
     tau_of = torque_function(torque, len(act))
-    terms = SingleCall(robot.library.functions["constrained_terms"], robot.p)
-    kkt = np.zeros((n + m, n + m))
-    rhs_v = np.zeros(n + m)
-    count, last_t = [0], [t[0]]
-
-    def rhs(tt, x):
-        count[0] += 1
-        last_t[0] = tt
-        M, h, jac, gamma = terms(x[:n], x[n:])
-        jac = jac.reshape(n, m).T
-        kkt[:n, :n] = M.reshape(n, n)
-        kkt[:n, n:] = -jac.T
-        kkt[n:, :n] = jac
-        rhs_v[:n] = -h
-        rhs_v[act] += tau_of(tt)
-        rhs_v[n:] = gamma
-        qdd = np.linalg.solve(kkt, rhs_v)[:n]
-        if not np.all(np.isfinite(qdd)):  # else SciPy shrinks its step for ever
-            raise SimulationError(f"{robot.name}: accelerations became {qdd.tolist()} at "
-                                  f"t = {tt:.6g} s")
-        return np.concatenate([x[n:], qdd])
-
     if method not in ("dopri5", *SCIPY_METHODS):
         raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
     use_c = method == "dopri5" and not callable(torque)
     if method == "dopri5" and callable(torque):
         method = "DOP853"
+    count, last_t = [0], [t[0]]
+    # the C loop calls the compiled batch itself; SciPy calls a Python right-hand side
     fn = robot.library.address("constrained_terms") if use_c else 0
+    rhs = None if use_c else _kkt_rhs(robot, tau_of, count, last_t)
     qs, qds = [q.copy()], [qd.copy()]
     k = 0
     while k < len(t) - 1:
@@ -183,6 +163,34 @@ def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, 
     taus = np.array([tau_of(tt) for tt in t])
     return Simulation.of_robot(robot, t, qa, qda, taus, method, rtol, atol, count[0],
                                constraint_drift_m=drift, initial_correction_rad=correction)
+
+
+def _kkt_rhs(robot: Robot, tau_of, count: list, last_t: list):
+    """SciPy's right-hand side of the index-1 system (``simulate_closed``) at (t, [q, qd]):
+    [qd, qdd], counting its calls in ``count`` and the last time in ``last_t``."""
+    act = list(robot.actuated)
+    n, m = robot.n, robot.n_constraints
+    terms = SingleCall(robot.library.functions["constrained_terms"], robot.p)
+    kkt = np.zeros((n + m, n + m))
+    rhs_v = np.zeros(n + m)
+
+    def rhs(tt, x):
+        count[0] += 1
+        last_t[0] = tt
+        M, h, jac, gamma = terms(x[:n], x[n:])
+        jac = jac.reshape(n, m).T
+        kkt[:n, :n] = M.reshape(n, n)
+        kkt[:n, n:] = -jac.T
+        kkt[n:, :n] = jac
+        rhs_v[:n] = -h
+        rhs_v[act] += tau_of(tt)
+        rhs_v[n:] = gamma
+        qdd = np.linalg.solve(kkt, rhs_v)[:n]
+        if not np.all(np.isfinite(qdd)):  # else SciPy shrinks its step for ever
+            raise SimulationError(f"{robot.name}: accelerations became {qdd.tolist()} at "
+                                  f"t = {tt:.6g} s")
+        return np.concatenate([x[n:], qdd])
+    return rhs
 
 
 def kkt_accelerations(robot: Robot, q, qd, tau_act) -> np.ndarray:

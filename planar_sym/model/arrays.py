@@ -67,6 +67,15 @@ def as_samples(name: str, a, width: int, *, times: np.ndarray | None = None) -> 
     return np.ascontiguousarray(arr)
 
 
+def as_times(t, samples: int, of: str) -> np.ndarray:
+    """Sample times ``t`` (N,) or (N, 1) in s as a float64 (N,) array, each finite, one for
+    each of the ``samples`` samples of the array named ``of``."""
+    t = as_samples("t", np.reshape(t, (-1, 1)) if np.ndim(t) == 1 else t, 1)[:, 0]
+    if len(t) != samples:
+        raise InputError(f"t has {len(t)} times for {samples} samples of {of}")
+    return t
+
+
 def as_sample_set(width_of: dict[str, int], arrays: dict, *,
                   times: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
     """Several arrays of one trajectory checked together: each as ``as_samples`` checks it

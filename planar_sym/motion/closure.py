@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from ..errors import InputError, WorkspaceError, warn_caller
-from ..model.arrays import as_sample_set, as_samples, as_vector, when
+from ..model.arrays import as_sample_set, as_samples, as_times, as_vector, when
 from ..model.library import SingleCall
 from ..model.loops import COND_LIMIT, COND_WARN, refuse_singular_matrices
 from ..model.robot import Robot
@@ -53,12 +53,15 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     close the loops.
 
     ``q_act`` (N, actuated) holds the actuated coordinates (rad; m at a slider), ``q_guess``
-    (n,) a start pose, ``t`` (N,) the times (s) to name in an error. Returns every coordinate,
+    (n,) a start pose, ``t`` (N,) the times (s) to name in an error (checked here: finite, one
+    per sample). Returns every coordinate,
     shape (N, n), in rad (m). Raises WorkspaceError where the loops cannot be closed or the
     motion would leave its assembly mode.
     """
     act, pas = partition(robot)
     loops = _Loops(robot, act, pas)
+    if t is not None:  # the times an error names: checked here, with the samples
+        t = as_times(t, len(np.atleast_2d(q_act)), "q_act")
     q_act = as_samples("q_act", q_act, len(act), times=t)
     if q_guess is not None:  # checked here, once: _first is also entered again without one
         q_guess = as_vector("q_guess", q_guess, robot.n)
@@ -371,23 +374,25 @@ def from_actuated(robot: Robot, t, q_act, qd_act, qdd_act, q_guess=None) -> Join
         Where the first sample's Newton starts (default the drawn configuration): its assembly
         mode is kept.
     """
-    t = as_samples("t", np.reshape(t, (-1, 1)) if np.ndim(t) == 1 else t, 1)[:, 0]
-    if len(t) != len(np.atleast_2d(q_act)):
-        raise InputError(f"t has {len(t)} times for {len(np.atleast_2d(q_act))} samples of q_act")
-    if not robot.is_closed_chain:  # (a KeyError on the loop functions a tree has not, before)
-        passive = [robot.coordinates[i] for i in range(robot.n) if i not in robot.actuated]
-        if passive:
-            raise InputError(f"{robot.name}: {', '.join(passive)} passive in a tree: a tree's "
-                             "passive joints follow from its dynamics, not from the actuated "
-                             "joints' motion (simulate it under their torques)")
-        act = list(robot.actuated)
-        full = [np.zeros((len(t), robot.n)) for _ in range(3)]
-        for f, (k, a) in zip(full, (("q_act", q_act), ("qd_act", qd_act), ("qdd_act", qdd_act))):
-            f[:, act] = as_samples(k, a, len(act), times=t)
-        return JointTrajectory(np.asarray(t), *full)
-    q = solve_passive(robot, q_act, q_guess, t)
-    qd, qdd = complete_rates(robot, q, qd_act, qdd_act, t)
-    return JointTrajectory(np.asarray(t), q, qd, qdd)
+    if t is None:  # (None is solve_passive's "no times")
+        raise InputError("t must be the samples' times (s), one per sample of q_act: got None")
+    if robot.is_closed_chain:
+        q = solve_passive(robot, q_act, q_guess, t)  # t checked there, with q_act
+        t = np.asarray(t, dtype=float).reshape(-1)
+        qd, qdd = complete_rates(robot, q, qd_act, qdd_act, t)
+        return JointTrajectory(t, q, qd, qdd)
+    t = as_times(t, len(np.atleast_2d(q_act)), "q_act")
+    # a tree (a KeyError on the loop functions a tree has not, before)
+    passive = [robot.coordinates[i] for i in range(robot.n) if i not in robot.actuated]
+    if passive:
+        raise InputError(f"{robot.name}: {', '.join(passive)} passive in a tree: a tree's "
+                         "passive joints follow from its dynamics, not from the actuated "
+                         "joints' motion (simulate it under their torques)")
+    act = list(robot.actuated)
+    full = [np.zeros((len(t), robot.n)) for _ in range(3)]
+    for f, (k, a) in zip(full, (("q_act", q_act), ("qd_act", qd_act), ("qdd_act", qdd_act))):
+        f[:, act] = as_samples(k, a, len(act), times=t)
+    return JointTrajectory(t, *full)
 
 
 def complete_state(robot: Robot, q_act, qd_act, q_guess=None) -> tuple[np.ndarray, np.ndarray]:

@@ -151,7 +151,8 @@ def start_pose(robot: Robot, q_start) -> np.ndarray:
 
 
 def solve(robot: Robot, t: np.ndarray, x: np.ndarray, q_start=None) -> NewtonRun:
-    """Newton continued over the samples in C.
+    """Newton continued over the samples in C, on a robot whose task and loops fix every
+    coordinate (``check_square``, which ``ik.inverse_kinematics`` asks once, at its entry).
 
     Parameters
     ----------
@@ -162,7 +163,6 @@ def solve(robot: Robot, t: np.ndarray, x: np.ndarray, q_start=None) -> NewtonRun
     q_start : array_like, shape (n,), optional
         Start pose (rad), default ``robot.q_drawn``: its working and assembly modes are kept.
     """
-    check_square(robot)
     q0 = start_pose(robot, q_start)
     n, m, nt, N = robot.n, robot.n_constraints, len(robot.task_names), len(t)
     lib = robot.library

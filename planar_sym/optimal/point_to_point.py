@@ -113,8 +113,9 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     if objective == "time" and duration_s is not None:  # it was ignored without a word
         raise InputError(f"objective 'time' finds the duration: leave duration_s out (got "
                          f"{duration_s!r}), or minimise 'effort' or 'energy' in it")
-    if objective == "energy":
-        copper_losses(robot)  # refused here if a motor lacks its electrical figures
+    # each motor's losses per squared torque, once: refused here if a motor lacks its
+    # electrical figures
+    copper = copper_losses(robot) if objective == "energy" else None
     own = act if closed else list(range(n))  # the coordinates integrated
     a0, a1 = (_ends(robot, q, name, own) for q, name in ((q_start, "q_start"),
                                                          (q_end, "q_end")))
@@ -125,8 +126,8 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     v = (description_speed_limits(robot) if speed_limit is None
          else speed_limits(robot, speed_limit))
     started = time.perf_counter()
-    return _timed(_search(robot, a0, a1, objective, duration_s, lim, v, int(intervals), seed),
-                  started)
+    return _timed(_search(robot, a0, a1, objective, duration_s, lim, v, int(intervals), seed,
+                          copper), started)
 
 
 def _timed(move: OptimalMove, started: float) -> OptimalMove:
@@ -136,11 +137,12 @@ def _timed(move: OptimalMove, started: float) -> OptimalMove:
 
 
 def _search(robot: Robot, a0, a1, objective: str, duration_s, lim, v, intervals: int,
-            seed) -> OptimalMove:
-    """The move: from a cubic, or for "time" where that fails, from a move within the limits."""
+            seed, copper=None) -> OptimalMove:
+    """The move: from a cubic, or for "time" where that fails, from a move within the limits
+    (``copper``: ``copper_losses``, for "energy")."""
     if objective != "time":
         return _within_limits(robot, a0, a1, objective, duration_s, lim, v, int(intervals),
-                              seed=seed)
+                              seed=seed, copper=copper)
     try:
         return _solve(robot, a0, a1, objective, duration_s, lim, v, int(intervals), seed=seed)
     except SimulationError as first:
@@ -164,34 +166,36 @@ def _search(robot: Robot, a0, a1, objective: str, duration_s, lim, v, intervals:
 
 
 def _within_limits(robot: Robot, a0, a1, objective: str, duration: float, lim, v, N: int,
-                   seed=None) -> OptimalMove:
+                   seed=None, copper=None) -> OptimalMove:
     """The best move of ``duration`` (s) by ``objective`` ("effort" or "energy") within the
     limits: from a cubic, or where that fails, from the same move without limits. Raises the
     first SimulationError when neither is found."""
     try:
-        return _solve(robot, a0, a1, objective, duration, lim, v, N, seed=seed)
+        return _solve(robot, a0, a1, objective, duration, lim, v, N, seed=seed, copper=copper)
     except SimulationError as first:
         if lim is None and v is None:
             raise
         try:
-            free = _solve(robot, a0, a1, objective, duration, None, None, N, seed=seed)
-            return _solve(robot, a0, a1, objective, duration, lim, v, N, free)
+            free = _solve(robot, a0, a1, objective, duration, None, None, N, seed=seed,
+                          copper=copper)
+            return _solve(robot, a0, a1, objective, duration, lim, v, N, free, copper=copper)
         except SimulationError:
             raise first from None
 
 
 def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
-           warm: OptimalMove | None = None, seed=None) -> OptimalMove:
+           warm: OptimalMove | None = None, seed=None, copper=None) -> OptimalMove:
     """One IPOPT solve (see the module docstring); ``warm``: a move to start from (else a
     cubic; ``seed``: a closed chain's start pose, whose assembly mode the cubic's passive
-    joints take). Raises SimulationError when IPOPT finds no solution."""
+    joints take); ``copper``: ``copper_losses`` (actuated,), for "energy", checked by
+    ``optimal_move``. Raises SimulationError when IPOPT finds no solution."""
     import casadi as ca
 
     n, act, closed = robot.n, list(robot.actuated), robot.is_closed_chain
     own = act if closed else list(range(n))  # the coordinates integrated
     pas = [i for i in range(n) if i not in act]
     p = ca.DM(robot.p)
-    copper = None if objective != "energy" else ca.DM(copper_losses(robot))
+    copper = None if objective != "energy" else ca.DM(copper)
     opti = ca.Opti()
     T = opti.variable() if objective == "time" else float(duration_s)
     h = T / N

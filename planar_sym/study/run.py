@@ -81,7 +81,8 @@ def run(study: str | Path | specs.Study, samples: int | None = None) -> Result:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            result = run_on(st, robot_of(st), samples)
+            robot = robot_of(st)  # the study's robot, loaded before it runs
+            result = run_on(st, robot, samples)
         except BaseException as exc:  # noqa: BLE001 - re-raised below, after the warnings
             failed = exc
     for w in caught:  # as they were given, now under the caller's filters
@@ -98,13 +99,21 @@ def run_on(st: specs.Study, robot: Robot, samples: int | None = None) -> Result:
     sweep calls once per design, on one robot whose parameter vector it sets in place."""
     if st.kind == "forward":
         return _forward(st, robot, samples)
-    if st.kind == "optimal" and st.control is None:
-        return _optimal(st, robot, samples)
-    if st.kind in ("control", "optimal"):
+    if st.kind == "optimal" and st.control is None:  # run as an inverse study runs its motion
+        from .optimal_run import plan_motion
+
+        # a tree with a passive joint: the solver's nodes (between them the joint is not
+        # free), the move itself
+        nodes = not (robot.is_closed_chain or len(robot.actuated) == robot.n)
+        jt, x, move, timing = plan_motion(st, robot, None if nodes else samples)
+        if nodes:
+            return _nodes(st, robot, jt, x, move, timing)
+    elif st.kind in ("control", "optimal"):
         from .control_run import run_control
 
         return run_control(st, robot, samples, plant_of(st, robot))
-    jt, x, timing = timed_motion(st, robot, samples)
+    else:
+        jt, x, timing = timed_motion(st, robot, samples)
     return _inverse(st, robot, jt, x, timing)
 
 
@@ -116,16 +125,9 @@ def plant_of(st: specs.Study, robot: Robot) -> Robot | None:
     return with_overrides(robot, st.control.plant, f"{st.path or st.name}: control.plant")
 
 
-def _optimal(st: specs.Study, robot: Robot, samples: int | None) -> Result:
-    """The optimal move run as an inverse study runs its motion (at its nodes, or at
-    ``samples`` evenly spaced times); a tree with a passive joint: the move itself."""
-    from .optimal_run import plan_motion
-
-    # a tree with a passive joint: the solver's nodes (between them the joint is not free)
-    nodes = not (robot.is_closed_chain or len(robot.actuated) == robot.n)
-    jt, x, move, found = plan_motion(st, robot, None if nodes else samples)
-    if not nodes:
-        return _inverse(st, robot, jt, x, found)
+def _nodes(st: specs.Study, robot: Robot, jt: JointTrajectory, x, move, found: str) -> Result:
+    """An optimal move of a tree with a passive joint, at the solver's nodes: its motion and
+    its torques, no joint loads (between the nodes the passive joint is not free)."""
     data = _motion_series(robot, jt, x)
     data += coordinate_series(robot, "tau", move.tau, robot.actuated)
     data += [Series("p", "W", move.tau[:, k] * jt.qd[:, i], index=i)
