@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import InputError, WorkspaceError, warn_caller
 from ..model.arrays import as_sample_set, as_samples, as_times, as_vector, when
 from ..model.library import SingleCall
-from ..model.loops import COND_LIMIT, COND_WARN, refuse_singular_matrices
+from ..model.loops import COND_LIMIT, refuse_singular_matrices, warn_between_samples
 from ..model.robot import Robot
 from .profiles import JointTrajectory
 
@@ -73,22 +73,8 @@ def solve_passive(robot: Robot, q_act, q_guess=None, t=None) -> np.ndarray:
     for k in range(1, len(q_act)):
         pose = _follow(loops, pose, q_act[k], t, k)
         out[k], cond[k], passed[k] = pose.q, pose.cond, pose.passed
-    _warn_between(robot.name, cond, passed, t)
+    warn_between_samples(robot.name, cond, passed, t)
     return out
-
-
-def _warn_between(name: str, cond: np.ndarray, passed: np.ndarray, t) -> None:
-    """Warn where Phi_p's condition number on the way to a sample (``passed``, (N,)) is above
-    COND_WARN while every sample's (``cond``) is below: torques and loads, which grow like it,
-    peak between the samples (a trial's four-bar near its change point: 0.34 N*m peak at 101
-    samples, 137 at 100001, no word). Finer samplings see it at the samples themselves."""
-    if len(cond) < 2 or cond.max() > COND_WARN or passed.max() <= COND_WARN:
-        return
-    k = int(np.argmax(passed))
-    warn_caller(f"{name}: between {when(t, k - 1)} and {when(t, k)} the loops pass near a "
-                f"singular pose (Phi_p's 1-norm condition number {passed[k]:.3g} there, at "
-                f"most {cond.max():.3g} at the samples): torques and joint loads peak between "
-                "the samples, so the peaks reported are too low; more samples resolve them")
 
 
 def _first(loops: _Loops, qa: np.ndarray, q_guess, t) -> _Pose:
