@@ -281,3 +281,26 @@ def test_a_design_leaning_on_smoothed_coulomb_friction_is_said():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         _warn_coulomb_damping(robot, ps.linearize(robot, [-1.0], [1.0]))  # 100 v_s: sech^2(100) ~ 5e-87
+
+
+def test_the_coulomb_slope_is_read_at_its_own_coordinate_of_a_closed_chain():
+    """A helper's review: the rates were paired with the state's coordinates by position, so on
+    the five-bar (state coordinates A and E, indices 0 and 2 of q = [A, B, E, D]) E's drive read
+    B's rate. A Coulomb drive on E (c = 0.05 N*m, v_s = 0.01 rad/s, no viscous friction):
+    at rest of E (B moving at 100 v_s) its slope c / v_s = 5 is named; with E at 100 v_s (B at
+    rest) nothing is."""
+    import warnings
+    from types import SimpleNamespace
+
+    from planar_sym.control.lqr import _warn_coulomb_damping
+    from planar_sym.model.drive import Drive
+
+    e = Drive("E", 2, "N*m", 1.0, 0.0, 0.0, 0.05, 0.01, None, None, None, True)
+    robot = SimpleNamespace(name="five", drive_train=SimpleNamespace(drives=(e,)))
+    with pytest.warns(RuntimeWarning, match=r"five: .* as damping: E 5 N\*m\*s/rad"):
+        _warn_coulomb_damping(robot, SimpleNamespace(coordinates=(0, 2),
+                                                     qd=np.array([0.0, 1.0, 0.0, 0.3])))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _warn_coulomb_damping(robot, SimpleNamespace(coordinates=(0, 2),
+                                                     qd=np.array([0.0, 0.0, 1.0, 0.3])))

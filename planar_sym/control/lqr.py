@@ -99,8 +99,10 @@ def _warn_coulomb_damping(robot: Robot, lin: Linearization) -> None:
     which holds only below v_s (0.01 rad/s by default): a trial's geared arm got 20 N*m*s/rad
     against 0.05 of viscous friction, rate gains 10 times lower than without it, and no word.
     Said where that slope passes ``COULOMB_DAMPING_RATIO`` times the viscous friction."""
-    # the rates of the state designed about (a closed chain's: its actuated coordinates')
-    rate = dict(zip(lin.coordinates, np.asarray(lin.qd, dtype=float).reshape(-1)))
+    # the rates of the state designed about: lin.qd holds every coordinate (n), a closed
+    # chain's state only its actuated ones (lin.coordinates)
+    qd = np.asarray(lin.qd, dtype=float).reshape(-1)
+    rate = {i: float(qd[i]) for i in lin.coordinates}
     leaning = []
     for d in robot.drive_train.drives:
         if d.coulomb <= 0 or d.smoothing <= 0:
