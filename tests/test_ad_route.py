@@ -43,6 +43,21 @@ def _states(desc, rng, samples=12):
             for _ in range(samples)]
 
 
+def _input(state: dict, f, name: str, rng) -> np.ndarray:
+    """The state's value of input ``name``, or one drawn for it once per state (the tracking
+    functions' references, gains, input torques, limits and nominal parameters; the same for
+    both routes)."""
+    if name not in state:
+        size = f.size1_in(name) * f.size2_in(name)
+        state[name] = (state["p"] * rng.uniform(0.8, 1.2, size) if name == "p_nom"
+                       else rng.uniform(-2, 2, size) * (1 if name in ("lo", "hi") else 3))
+        if name == "lo":  # about half the torques clip, at either limit
+            state[name] = -np.abs(state[name])
+        elif name == "hi":
+            state[name] = np.abs(state[name])
+    return state[name]
+
+
 def _worst(desc, a: list, b: list, rng) -> tuple[float, str]:
     """The largest relative difference over every output of every function pair.
 
@@ -57,7 +72,7 @@ def _worst(desc, a: list, b: list, rng) -> tuple[float, str]:
         f, g = fa.function, fb.function
         assert (fa.quantity, f.name_in()) == (fb.quantity, g.name_in())
         pairs = [(f(**args), g(**args))
-                 for args in ({k: st[k] for k in f.name_in()} for st in states)]
+                 for args in ({k: _input(st, f, k, rng) for k in f.name_in()} for st in states)]
         scale = max(max(np.max(np.abs(np.array(rb[o])), initial=0.0)
                         for _, rb in pairs for o in f.name_out()), FLOOR)
         for ra, rb in pairs:
