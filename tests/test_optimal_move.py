@@ -271,3 +271,27 @@ def test_energy_needs_the_motors_electrical_figures():
                                          "torque_constant .* joint1, joint2 have none"):
         ps.optimal_move(ps.load("serial_2dof"), [0.0, 0.0], [0.5, 0.5], objective="energy",
                         duration_s=1.0)
+
+
+def test_degrees_typed_as_radians_are_asked_about_once(monkeypatch):
+    """A trial: optimal_move on the 2-DOF arm from [30, 60] to [90, -45], meant in degrees,
+    planned a 60 rad swing of the shoulder without a word, where a study's angles beyond a turn
+    are warned about. One warning for the mistake (the first value beyond a turn, at the
+    caller's line), none for a move within a turn; the search itself is not what is tested."""
+    import warnings
+
+    from planar_sym.optimal import point_to_point
+
+    monkeypatch.setattr(point_to_point, "_search", lambda *a, **k: "searched")
+    monkeypatch.setattr(point_to_point, "_timed", lambda move, started: move)
+    arm = ps.load("serial_2dof")
+    with pytest.warns(RuntimeWarning) as rec:
+        assert ps.optimal_move(arm, [30, 60], [90, -45], duration_s=1.0) == "searched"
+    assert [str(w.message) for w in rec] == [
+        ("serial_2dof: q_start[0] = 30 rad (joint1) is 4.77 turns: were the angles typed in "
+         "degrees? (the Python API takes radians: np.radians)")]
+    assert rec[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ps.optimal_move(arm, [0.5, 1.0], [1.5, -0.8], duration_s=1.0)
+        ps.optimal_move(arm, [0.5, 1.0], [6.2, -6.2], duration_s=1.0)  # within a turn

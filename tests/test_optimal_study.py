@@ -233,3 +233,46 @@ def test_weights_of_the_wrong_width_are_named(tmp_path):
     one = tmp_path / "one.toml"  # one number: every state alike
     one.write_text(study.replace("q_weight = [100.0, 100.0, 1.0, 1.0]", "q_weight = 100.0"))
     assert abs(ps.run_study(one).get("q", index=1).values[-1] - np.pi / 2) < 1e-4
+
+
+class _Searched(Exception):
+    pass
+
+
+@pytest.mark.parametrize("angle, start, end, said", [
+    # in degrees, two turns of the pole: a move, not a slip (optimal_move's own warning, whose
+    # advice is the Python API's, is the study's to replace)
+    ("deg", "[0.0, -90.0]", "[0.0, 630.0]", None),
+    # in radians, 90 meant in degrees: said once, by the study's file and field
+    ("rad", "[0.0, -1.5707963]", "[0.0, 90.0]",
+     ("optimal.end[1] = 90 rad is 14.3 turns (a warning beyond one): were the angles typed in "
+      "degrees? ([units] angle = \"deg\" makes it 90 deg)")),
+])
+def test_an_optimal_study_s_turns_are_judged_by_its_units(tmp_path, monkeypatch, angle, start,
+                                                            end, said):
+    """optimal_move warns where a Python caller's angles pass a turn (degrees typed as
+    radians); a study knows its [units]: its own rule speaks instead, naming the file and the
+    field, and a move of several turns in a degree study is no slip. The search itself is
+    replaced: only the warnings before it are tested."""
+    import warnings
+
+    from planar_sym.optimal import point_to_point
+    from planar_sym.study.optimal_run import plan
+    from planar_sym.study.run import load_study, robot_of
+
+    def search(*a, **k):
+        raise _Searched
+
+    monkeypatch.setattr(point_to_point, "_search", search)
+    text = (ROOT / "planar_sym" / "studies" / "cart_pole_swing_up.toml").read_text()
+    text = text.replace('angle = "deg"', f'angle = "{angle}"').replace(
+        "start = [0.0, -90.0]", f"start = {start}").replace("end = [0.0, 90.0]", f"end = {end}")
+    path = tmp_path / "swing.toml"
+    path.write_text(text)
+    st = load_study(str(path))
+    robot = robot_of(st)
+    with warnings.catch_warnings(record=True) as rec, pytest.raises(_Searched):
+        warnings.simplefilter("always")
+        plan(st, robot)
+    got = [str(w.message) for w in rec]
+    assert got == ([] if said is None else [f"{path}: {said}"]), got

@@ -36,6 +36,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import InputError, SimulationError
+from ..model.arrays import warn_turns
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from .limits import description_speed_limits, speed_limits, torque_limits
@@ -119,6 +120,7 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     own = act if closed else list(range(n))  # the coordinates integrated
     a0, a1 = (_ends(robot, q, name, own) for q, name in ((q_start, "q_start"),
                                                          (q_end, "q_end")))
+    warn_turns(robot, own, q_start=a0, q_end=a1)
     # a closed chain's start given as a pose on its loops: its assembly mode, where the
     # passive joints' first guess starts (else the drawn one's)
     seed = (np.asarray(q_start, dtype=float).ravel() if closed

@@ -9,6 +9,7 @@ result is the move itself: the solver's coordinates and torques at its nodes.
 
 from __future__ import annotations
 
+import warnings
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -17,7 +18,10 @@ from ..errors import InputError, SimulationError
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from . import spec as specs
-from .motion import check_width, coordinate_scale
+from .motion import check_width, coordinate_scale, warn_turns
+
+#: optimal_move's own turns warning (model.arrays.warn_turns), which a study replaces by its own
+API_TURNS = r".*were the angles typed in degrees\? \(the Python API takes radians"
 
 if TYPE_CHECKING:  # the optimal layer is imported when a move is asked for
     from ..optimal.point_to_point import OptimalMove
@@ -43,6 +47,9 @@ def plan(st: specs.Study, robot: Robot):
         if len(v) != robot.n:
             check_width(st, fld, v, width, "actuated joint" if robot.is_closed_chain
                         else "coordinate")
+    # beyond a turn: the study's rule (its file, field and [units]), not the API's own
+    any(warn_turns(st, robot, fld, v, range(robot.n) if len(v) == robot.n else own)
+        for fld, v in (("optimal.start", o.start), ("optimal.end", o.end)))
     ends = [np.asarray(v) * (scale if len(v) == robot.n else scale[own])
             for v in (o.start, o.end)]
     speed = None
@@ -53,8 +60,10 @@ def plan(st: specs.Study, robot: Robot):
     if limit is not None and len(limit) not in (1, len(act)):
         check_width(st, "optimal.torque_limit", limit, len(act), "motor")
     try:
-        move = optimal_move(robot, *ends, objective=o.objective, duration_s=o.duration_s,
-                            torque_limit=limit, speed_limit=speed, intervals=o.intervals)
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=API_TURNS)
+            move = optimal_move(robot, *ends, objective=o.objective, duration_s=o.duration_s,
+                                torque_limit=limit, speed_limit=speed, intervals=o.intervals)
     except InputError as exc:
         raise InputError(f"{where}: optimal: {exc}") from None
     except SimulationError as exc:  # infeasible: named by the study and its own field names
