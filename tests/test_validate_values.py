@@ -517,6 +517,20 @@ def test_symbolic_row_reports_a_scaled_output(robots, monkeypatch):
     assert r.detail == f"worst: mass_matrix.M; from {robot.description_file}"
 
 
+@pytest.mark.parametrize("fn, out", [("tracking_pd", "qdd"), ("tracking_pd", "tau_cmd"),
+                                     ("tracking_ct", "tau_app")])
+def test_symbolic_row_sees_the_fused_tracking_functions(robots, monkeypatch, fn, out):
+    """The fused controller and plant of a tree (derive/tracking.py) are rows of (a) too: a
+    fresh clone's `planar-sym validate` raised KeyError 'q_ref' on every tree once they were
+    generated, its inputs unknown to the row. Each output, scaled by 1 + 1e-9, is named."""
+    robot = robots["serial_2dof"]
+    assert symbolic.check_symbolic(robot, samples=3).status == "pass"
+    _plant(monkeypatch, robot, fn, out, factor=1 + 1e-9)
+    r = symbolic.check_symbolic(robot, samples=3)
+    assert r.status == "FAIL" and r.detail.startswith(f"worst: {fn}.{out};"), r
+    assert r.worst == pytest.approx(1e-9, rel=1e-3)
+
+
 @pytest.mark.parametrize("e, status", [(0.8e-11, "pass"), (1.2e-11, "FAIL")])
 def test_symbolic_threshold(robots, monkeypatch, e, status):
     robot = robots["serial_2dof"]

@@ -58,7 +58,12 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
         return Row(name, math.inf, TOL_SYMBOLIC, "FAIL", f"{path}: parameter vector differs")
     states = dict(zip(("q", "qd", "qdd", "tau"), random_states(robot, samples, seed)))
     refs = _sympy_reference(model, robot.p, states)
+    extra, tracked = (_tracking_reference(robot, refs, states, seed)
+                      if "tracking_pd" in robot.library.functions else ({}, {}))
+
     def ref_for(quantity: str, out: str) -> np.ndarray:
+        if quantity.startswith("tracking_"):  # the fused controller and plant
+            return tracked[f"{quantity}.{out}"]
         # the fused closed-chain solve returns the actuated torques only
         if quantity in ("closed_inverse_dynamics", "closed_regressor") and out in ("tau", "Y"):
             return refs["closed.tau"]
@@ -75,7 +80,7 @@ def check_symbolic(robot: Robot, description: Path | None = None, samples: int =
 
     errs = {f"{quantity}.{out}": rel_err(compared(out, value), ref_for(quantity, out))
             for quantity, fn in robot.library.functions.items()
-            for out, value in fn(samples, {k: (robot.p if k == "p" else states[k])
+            for out, value in fn(samples, {k: (robot.p if k == "p" else {**states, **extra}[k])
                                            for k, _ in fn.spec.inputs}).items()}
     if not robot.exact:  # the vectorised loops the robot's methods call, too
         q, qd, qdd, tau = (states[k] for k in ("q", "qd", "qdd", "tau"))
@@ -145,3 +150,33 @@ def _closed_reference(model, refs: dict, qd: np.ndarray, qdd: np.ndarray
             "cond": np.linalg.cond(jac[:, :, pas].transpose(0, 2, 1), 1),
             "phi_v": np.einsum("kij,kj->ki", jac, qd),
             "phi_a": np.einsum("kij,kj->ki", jac, qdd) - refs["gamma"].reshape(len(jac), -1)}
+
+
+def _tracking_reference(robot: Robot, refs: dict, states: dict, seed: int
+                        ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """Inputs drawn for the fused tracking functions (derive/tracking.py; the nominal
+    parameters the robot's own, limits that clip about half the torques) and their outputs
+    from the SymPy M, h and g: tau_cmd, tau_app (clipped) and the plant's qdd."""
+    act, q, qd = list(robot.actuated), states["q"], states["qd"]
+    ns, na = len(q), len(act)
+    rng = np.random.default_rng(seed)
+    ins = {k: rng.uniform(-1.0, 1.0, (ns, na)) for k in ("q_ref", "qd_ref", "qdd_ref", "tau_in")}
+    ins.update(kp=rng.uniform(1.0, 50.0, (ns, na)), kd=rng.uniform(0.1, 5.0, (ns, na)),
+               lo=-rng.uniform(0.0, 2.0, (ns, na)), hi=rng.uniform(0.0, 2.0, (ns, na)),
+               p_nom=np.tile(robot.p, (ns, 1)))
+    m, h, g = refs["M"], refs["h"].reshape(ns, -1), refs["g"].reshape(ns, -1)
+    error = ins["kp"] * (ins["q_ref"] - q[:, act]) + ins["kd"] * (ins["qd_ref"] - qd[:, act])
+    v = np.zeros_like(q)
+    v[:, act] = ins["qdd_ref"] + ins["kd"] * (ins["qd_ref"] - qd[:, act]) \
+        + ins["kp"] * (ins["q_ref"] - q[:, act])
+    laws = {"tracking_pd": ins["tau_in"] + error + g[:, act],
+            "tracking_ct": ins["tau_in"] + (np.einsum("kij,kj->ki", m, v) + h)[:, act]}
+    out = {}
+    for fn, cmd in laws.items():
+        app = np.clip(cmd, ins["lo"], ins["hi"])
+        full = np.zeros_like(q)
+        full[:, act] = app
+        out.update({f"{fn}.tau_cmd": cmd, f"{fn}.tau_app": app,
+                    f"{fn}.qdd": np.linalg.solve(m, (full - h)[..., None])[..., 0]})
+    return ins, out
+
