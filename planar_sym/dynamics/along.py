@@ -15,7 +15,7 @@ from ..model.arrays import as_samples
 from ..model.loops import warn_near_singular
 from ..model.robot import Robot
 from .inverse import torque_split
-from .reactions import JointLoads, joint_loads, load_series
+from .reactions import JointLoads, load_series, loads_of_motion
 from .series import Series
 from .sizing import ActuatorSizing, size
 
@@ -75,7 +75,12 @@ def inverse_along(robot: Robot, t_s, q, qd, qdd) -> InverseAlong:
         warn_near_singular(robot.name, np.linalg.cond(jac[:, :, list(robot.passive)], 1), t)
     else:  # a tree with a passive joint is refused here: its torques are not unique
         tau, lam, residual = robot.inverse_dynamics(q, qd, qdd), None, None
-    loads = joint_loads(robot, q, qd, qdd, t=t, inverse=(tau, lam))
+    # the links' motion from the same checked samples, in the same pass through the model:
+    # every joint's load follows from it and the torques
+    q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
+                                                                  ("qdd", qdd)))
+    motion = robot.body_motion(q, qd, qdd)
+    loads = loads_of_motion(robot, qdd, tau, lam, motion)
     act = list(robot.actuated)
     return InverseAlong(tau=tau, cut_forces=lam, loads=loads,
                         split=torque_split(robot, q, qd, qdd, t=t),

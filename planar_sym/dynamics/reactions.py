@@ -197,20 +197,32 @@ def joint_loads(robot: Robot, q, qd, qdd, t=None, inverse=None) -> JointLoads:
     ``closed_chain_inverse_dynamics``, which also gives the cut forces and refuses samples off
     the loops or at a singular pose.
     """
-    n_q, s = robot.n, _structure(robot)
-    q, qd, qdd = (as_samples(k, a, n_q, times=t) for k, a in (("q", q), ("qd", qd),
-                                                              ("qdd", qdd)))
-    n_s = len(q)
+    _structure(robot)  # a library that predates joint loads is refused before anything runs
+    q, qd, qdd = (as_samples(k, a, robot.n, times=t) for k, a in (("q", q), ("qd", qd),
+                                                                  ("qdd", qdd)))
     if robot.is_closed_chain:
-        tau_act, lam = inverse or robot.closed_chain_inverse_dynamics(q, qd, qdd, t=t)
-        tau = np.zeros((n_s, n_q))
+        tau, lam = inverse or robot.closed_chain_inverse_dynamics(q, qd, qdd, t=t)
+    else:
+        tau, lam = (inverse[0] if inverse else robot.tree_inverse_dynamics(q, qd, qdd)), None
+    motion = robot.body_motion(q, qd, qdd)
+    return loads_of_motion(robot, qdd, tau, lam, motion)
+
+
+def loads_of_motion(robot: Robot, qdd: np.ndarray, tau, lam, motion) -> JointLoads:
+    """``joint_loads`` from one pass through the model, made by the caller on checked samples:
+    ``qdd`` (N, n) every coordinate's acceleration, the inverse dynamics ``tau`` and ``lam``
+    (a closed chain's ``closed_chain_inverse_dynamics`` output; a tree's tau (N, n) at every
+    coordinate and None) and ``motion``, ``Robot.body_motion`` of the same samples."""
+    n_q, s = robot.n, _structure(robot)
+    n_s = len(qdd)
+    if robot.is_closed_chain:
+        tau_act, tau = tau, np.zeros((n_s, n_q))
         tau[:, list(robot.actuated)] = tau_act
         lam = np.reshape(lam, (n_s, -1))
     else:
-        tau = inverse[0] if inverse else robot.tree_inverse_dynamics(q, qd, qdd)
         tau = np.reshape(tau, (n_s, n_q))
         lam = np.zeros((n_s, 0))
-    acc, cg, points = robot.body_motion(q, qd, qdd)
+    acc, cg, points = motion
     n_t, n_l = len(s.subtree[0]), lam.shape[1] // 2
     n_j = n_t + n_l
     # component arrays (N, bodies or points): acc (N, 3, bodies), cg (N, 2, bodies), points
