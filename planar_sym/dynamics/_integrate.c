@@ -167,18 +167,23 @@ static void signal_eval(const Signal *s, double t, int *hint, double *v, double 
 }
 
 /* The commanded torques (sys->tau_cmd) and the applied ones, clipped (sys->tau_app). */
+/* The input torques at t (n_act): the constant ones plus the input table's. */
+static void input_torques(Control *c, int na, double t, double *out) {
+    for (int a = 0; a < na; ++a) out[a] = c->tau_const ? c->tau_const[a] : 0.0;
+    if (c->input.n_knots) {
+        double u[MAXN];
+        signal_eval(&c->input, t, &c->hint_input, u, 0, 0);
+        for (int a = 0; a < na; ++a) out[a] += u[a];
+    }
+}
+
 static int control(System *sys, double t, const double *y) {
     Control *c = sys->ctl;
     int n = sys->n, na = sys->n_act, m = sys->m;
     const double *q = y, *qd = y + n;
     double *qr = sys->q_ref, *qdr = sys->qd_ref, qddr[MAXN];
     double *tc = sys->tau_cmd;
-    for (int a = 0; a < na; ++a) tc[a] = c->tau_const ? c->tau_const[a] : 0.0;
-    if (c->input.n_knots) {
-        double u[MAXN];
-        signal_eval(&c->input, t, &c->hint_input, u, 0, 0);
-        for (int a = 0; a < na; ++a) tc[a] += u[a];
-    }
+    input_torques(c, na, t, tc);
     if (c->mode == 1 || c->mode == 2) signal_eval(&c->ref, t, &c->hint_ref, qr, qdr, qddr);
     if (c->mode == 1) {  /* PD + gravity compensation */
         for (int a = 0; a < na; ++a) {
@@ -258,15 +263,10 @@ static int tracked(System *sys, double t, const double *y, double *dy) {
     Control *c = sys->ctl;
     int n = sys->n, na = sys->n_act;
     double tin[MAXN], qddr[MAXN], lo[MAXN], hi[MAXN];
+    input_torques(c, na, t, tin);
     for (int a = 0; a < na; ++a) {
-        tin[a] = c->tau_const ? c->tau_const[a] : 0.0;
         lo[a] = c->saturate ? c->lo[a] : -INFINITY;
         hi[a] = c->saturate ? c->hi[a] : INFINITY;
-    }
-    if (c->input.n_knots) {
-        double u[MAXN];
-        signal_eval(&c->input, t, &c->hint_input, u, 0, 0);
-        for (int a = 0; a < na; ++a) tin[a] += u[a];
     }
     signal_eval(&c->ref, t, &c->hint_ref, sys->q_ref, sys->qd_ref, qddr);
     if (c->mode == 1)
@@ -286,7 +286,7 @@ static int rhs(System *sys, double t, const double *y, double *dy) {
         int rc = fused ? (tracked(sys, t, y, dy) ? 1 : 0) : control(sys, t, y);
         if (rc) return rc == 2 ? 2 : 1;
         tau_act = sys->tau_app;
-        if (sys->fd) {
+        if (sys->fd && !fused) {  /* (the fused call has its accelerations already) */
             for (int i = 0; i < n; ++i) tau_full[i] = 0.0;
             for (int a = 0; a < na; ++a) tau_full[sys->act[a]] = sys->tau_app[a];
             tau_act = tau_full;
