@@ -186,6 +186,13 @@ def test_closed_chain_jacobians_are_central_differences_of_its_reduced_dynamics(
     assert np.abs(lin.b - b).max() <= 1e-6 * np.abs(b).max()
     assert np.abs(lin.qdd[act] - f(x0, ta)[2:]).max() <= 1e-9 * np.abs(lin.qdd).max()
     assert np.abs(fb.constraint(lin.q)).max() < 1e-12
+    # the passive accelerations come from the same KKT solve: they are the loops' own
+    # (Phi_p qdd_p = gamma - Phi_a qdd_a, NumPy on the compiled constraint functions)
+    from planar_sym.motion.closure import complete_rates
+
+    qd_loops, qdd_loops = complete_rates(fb, lin.q[None], qda[None], lin.qdd[act][None])
+    assert np.abs(lin.qd - qd_loops[0]).max() <= 1e-12
+    assert np.abs(lin.qdd - qdd_loops[0]).max() <= 1e-9 * np.abs(lin.qdd).max()
 
 
 def test_lqr_holds_a_closed_chain_and_its_small_motion_is_the_linear_models():

@@ -105,7 +105,7 @@ def _closed(robot: Robot, q, qd, tau) -> Linearization:
     """A closed chain in its actuated coordinates (module docstring)."""
     import casadi as ca
 
-    from ..motion.closure import complete_rates, complete_state
+    from ..motion.closure import from_actuated
 
     n, act, pas = robot.n, list(robot.actuated), list(robot.passive)
     na, m = len(act), len(pas)
@@ -122,7 +122,10 @@ def _closed(robot: Robot, q, qd, tau) -> Linearization:
         raise InputError(f"q is off {robot.name}'s loops (|Phi| = "
                          f"{np.abs(robot.constraint(guess)).max():.3g} m): give a pose on the "
                          "loops, or its actuated coordinates only")
-    q0, qd0 = complete_state(robot, q_act, qd_act, guess)
+    # the state on the loops, and the accelerations that hold the actuated joints still
+    still = from_actuated(robot, np.zeros(1), q_act[None], qd_act[None], np.zeros((1, na)),
+                          guess)
+    q0, qd0 = still.q[0], still.qd[0]
     p = ca.DM(robot.p)
     f = {k: robot.casadi_function(k) for k in ("mass_matrix", "bias", "constraint",
                                                "constraint_jacobian", "constraint_bias")}
@@ -142,22 +145,21 @@ def _closed(robot: Robot, q, qd, tau) -> Linearization:
     tau_full = whole(ta, ca.MX.zeros(m))
     kkt = ca.blockcat([[f["mass_matrix"](qq, p), -jac.T], [jac, ca.MX.zeros(m, m)]])
     rhs = ca.vertcat(tau_full - f["bias"](qq, qqd, p), f["constraint_bias"](qq, qqd, p))
-    qdd_a = ca.solve(kkt, rhs)[act]
+    qdd = ca.solve(kkt, rhs)[:n]  # every coordinate's, the passive ones too
+    qdd_a = qdd[act]
     x = ca.vertcat(qa, qda)
     lin = ca.Function("lin", [qa, qda, ta], [qdd_a, ca.jacobian(qdd_a, x),
-                                             ca.jacobian(qdd_a, ta)])
+                                             ca.jacobian(qdd_a, ta), qdd])
     if tau is None:  # the torques that hold the actuated joints still here (qdd_a = 0)
-        _, still = complete_rates(robot, q0[None], qd_act[None], np.zeros((1, na)))
-        tau0 = robot.closed_chain_inverse_dynamics(q0[None], qd0[None], still)[0][0]
+        tau0 = robot.closed_chain_inverse_dynamics(q0[None], qd0[None], still.qdd)[0][0]
     else:
         tau0 = as_vector("tau", tau, na)
-    qdd_a0, dx, du = (np.asarray(v) for v in lin(q_act, qd_act, tau0))
+    qdd_a0, dx, du, qdd0 = (np.asarray(v) for v in lin(q_act, qd_act, tau0))
     a = np.block([[np.zeros((na, na)), np.eye(na)], [dx]])
     b = np.vstack([np.zeros((na, na)), du])
-    _, qdd0 = complete_rates(robot, q0[None], qd_act[None], qdd_a0.reshape(1, -1))
     units = robot.coordinate_units
     names = [robot.coordinates[i] for i in act]
     states = tuple(f"{names[k]} ({units[i]})" for k, i in enumerate(act)) + tuple(
         f"{names[k]}_rate ({units[i]}/s)" for k, i in enumerate(act))
     inputs = tuple(f"{names[k]} ({'N' if units[i] == 'm' else 'N*m'})" for k, i in enumerate(act))
-    return Linearization(a, b, q0, qd0, tau0, qdd0[0], states, inputs, tuple(act))
+    return Linearization(a, b, q0, qd0, tau0, qdd0.ravel(), states, inputs, tuple(act))
