@@ -148,13 +148,13 @@ def _closed(robot: Robot, q, qd, tau) -> Linearization:
     qdd = ca.solve(kkt, rhs)[:n]  # every coordinate's, the passive ones too
     qdd_a = qdd[act]
     x = ca.vertcat(qa, qda)
-    lin = ca.Function("lin", [qa, qda, ta], [qdd_a, ca.jacobian(qdd_a, x),
-                                             ca.jacobian(qdd_a, ta), qdd])
+    lin = ca.Function("lin", [qa, qda, ta], [ca.jacobian(qdd_a, x), ca.jacobian(qdd_a, ta),
+                                             qdd])
     if tau is None:  # the torques that hold the actuated joints still here (qdd_a = 0)
         tau0 = robot.closed_chain_inverse_dynamics(q0[None], qd0[None], still.qdd)[0][0]
     else:
         tau0 = as_vector("tau", tau, na)
-    qdd_a0, dx, du, qdd0 = (np.asarray(v) for v in lin(q_act, qd_act, tau0))
+    dx, du, qdd0 = (np.asarray(v) for v in lin(q_act, qd_act, tau0))
     a = np.block([[np.zeros((na, na)), np.eye(na)], [dx]])
     b = np.vstack([np.zeros((na, na)), du])
     units = robot.coordinate_units
