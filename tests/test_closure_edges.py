@@ -28,7 +28,7 @@ import pytest
 import planar_sym as ps
 from planar_sym.errors import InputError, WorkspaceError
 from planar_sym.model.loops import COND_LIMIT
-from planar_sym.motion import closure
+from planar_sym.motion import closure, continuation
 
 ROOT = Path(__file__).resolve().parents[1]
 TOL = 1e-12
@@ -97,14 +97,14 @@ def cond1(robot, q):
 def spy(monkeypatch, fake=None):
     """Record every Newton start (the predicted guesses); ``fake(self, q, real)`` may replace
     the correction's result."""
-    real = closure._Loops.newton
+    real = continuation.Loops.newton
     guesses = []
 
     def newton(self, q):
         guesses.append(q.copy())
         return real(self, q) if fake is None else fake(self, q, real)
 
-    monkeypatch.setattr(closure._Loops, "newton", newton)
+    monkeypatch.setattr(continuation.Loops, "newton", newton)
     return guesses
 
 
@@ -218,7 +218,7 @@ def test_five_bar_rates_against_finite_differences(five):
 def test_steps_of_at_most_max_step(slider, monkeypatch, to, steps):
     """From crank 3 rad (the rod turns half as fast as the crank there, so only MAX_STEP on
     the crank binds): 3.05 - 3 is 0.04999999999999982, one step; one ulp more, two."""
-    assert closure.MAX_STEP == 0.05
+    assert continuation.MAX_STEP == 0.05
     a = 3.0
     guesses = spy(monkeypatch)
     q = closure.solve_passive(slider, [[a], [to]], slider_closed_form(slider, [a])[0])
@@ -228,7 +228,7 @@ def test_steps_of_at_most_max_step(slider, monkeypatch, to, steps):
     assert np.allclose(targets, a + (to - a) * np.arange(1, steps + 1) / steps, rtol=0,
                        atol=1e-15)
     moves = np.diff(np.array(guesses), axis=0)
-    assert np.max(np.abs(moves)) <= closure.MAX_STEP
+    assert np.max(np.abs(moves)) <= continuation.MAX_STEP
     assert np.max(np.abs(q - slider_closed_form(slider, [a, to]))) < TOL
 
 
@@ -247,7 +247,7 @@ def test_a_failing_step_is_halved_max_halvings_times_then_refused(slider, monkey
     assert str(exc.value) == ("slider_crank: the loops cannot be closed at t = 0.5 s (sample 1) "
                               "for actuated coordinates [0.027] (rad; O = 1.54699 deg) (|Phi| = "
                               "1 m): outside the workspace")
-    assert closure.MAX_HALVINGS == 20
+    assert continuation.MAX_HALVINGS == 20
     targets = [g[0] for g in guesses[1:]]
     assert len(targets) == 21  # the whole step, then 20 halvings
     assert targets[0] == b  # the sample itself, exactly
@@ -257,7 +257,7 @@ def test_a_failing_step_is_halved_max_halvings_times_then_refused(slider, monkey
 def test_the_conditioning_guard_halves_at_most_max_halvings_times(par, monkeypatch):
     """With MAX_HALVINGS = 3, a step that |step| * cond would halve 6 times is halved 3 times,
     then taken as it is: 8 steps, each exact on the parallelogram's straight branch."""
-    monkeypatch.setattr(closure, "MAX_HALVINGS", 3)
+    monkeypatch.setattr(continuation, "MAX_HALVINGS", 3)
     d = 1e-5
     assert 1e-4 * cond1(par, [d, -d, d]) > 32  # the guard would want 2**5 or more
     guesses = spy(monkeypatch)
@@ -347,7 +347,7 @@ def test_a_singular_pose_closed_off_the_prediction_is_refused_at_the_sample(par,
     on (closed, singular, far from the prediction): with no halving allowed (MAX_HALVINGS = 0)
     the motion is refused at the sample, naming that pose's condition number. (With halvings
     the continuation meets the singular pose itself first: the test after this one.)"""
-    monkeypatch.setattr(closure, "MAX_HALVINGS", 0)
+    monkeypatch.setattr(continuation, "MAX_HALVINGS", 0)
     turned = np.array([0.0, 0.0, 2 * np.pi])
 
     def land(self, q, real):
@@ -374,7 +374,7 @@ def test_near_a_singular_pose_the_steps_halve_as_it_nears_and_grow_back_after(pa
     steps halve as it nears (the distance halves each time) until the pose is refused; away
     from a hard part a halved step grows back (before, it stayed small: 16385 Newton starts
     for 0.01 rad after a start 4e-6 rad from the change point, about a million for 0.6 rad)."""
-    monkeypatch.setattr(closure, "MAX_HALVINGS", 2)
+    monkeypatch.setattr(continuation, "MAX_HALVINGS", 2)
     guesses = spy(monkeypatch)
     with pytest.raises(WorkspaceError, match=r"singular pose between t = 0 s \(sample 0\) and "
                                              r"t = 0\.5 s \(sample 1\)"):
@@ -383,7 +383,7 @@ def test_near_a_singular_pose_the_steps_halve_as_it_nears_and_grow_back_after(pa
     assert cranks[:4] == pytest.approx([0.03, 0.02, 0.01, 0.005], abs=1e-15)
     assert all(b == pytest.approx(a / 2) for a, b in itertools.pairwise(cranks[3:]))
     guesses.clear()
-    monkeypatch.setattr(closure, "MAX_HALVINGS", 20)
+    monkeypatch.setattr(continuation, "MAX_HALVINGS", 20)
     q = closure.solve_passive(par, [[4e-6], [0.6]], [4e-6, -4e-6, 4e-6])
     assert np.max(np.abs(par.constraint(q))) < 1e-12
     assert len(guesses) < 200, len(guesses)

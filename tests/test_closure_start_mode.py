@@ -20,7 +20,7 @@ import pytest
 
 import planar_sym as ps
 from planar_sym.errors import WorkspaceError
-from planar_sym.motion import closure
+from planar_sym.motion import closure, continuation
 
 ROOT = Path(__file__).resolve().parents[1]
 R, L = 0.153, 0.306  # m: planar_sym/robots/slider_crank.toml
@@ -144,7 +144,7 @@ def test_a_small_residual_outside_says_what_closed_means():
                                              r"closed loops: at or just past the edge of the "
                                              r"workspace\): outside the workspace") as err:
         closure.solve_passive(five, [[0.0002661016949152542, 0.0]])
-    assert float(str(err.value).split("|Phi| = ")[1].split(" m")[0]) < closure.NEAR_EDGE_M
+    assert float(str(err.value).split("|Phi| = ")[1].split(" m")[0]) < continuation.NEAR_EDGE_M
 
 
 def test_a_guess_of_the_wrong_length_is_named(crank):

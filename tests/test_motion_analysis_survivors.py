@@ -1,7 +1,7 @@
 """Issue 30: the mutants of motion/closure.py and model/description/quantities.py that the
 other tests let through, each killed here by a check against a value worked out independently.
 
-closure.py (the continuation of a closed chain's passive joints, ``_follow``):
+closure.py (the continuation of a closed chain's passive joints, ``continuation.follow``):
 
 - Every tolerance and limit at its exact edge, as its docstring states it: Newton stops only
   *below* ``NEWTON_TOL_M`` (a residual of exactly 1e-13 m is not closed, at the first sample, in
@@ -32,9 +32,9 @@ from planar_sym.errors import WorkspaceError
 from planar_sym.model.description import quantities as qt
 from planar_sym.model.description.types import DENSITY_MAX, GYRATION_LIMIT, GYRATION_LOW
 from planar_sym.model.loops import COND_LIMIT
-from planar_sym.motion import closure
+from planar_sym.motion import closure, continuation
 
-TOL = closure.NEWTON_TOL_M
+TOL = continuation.NEWTON_TOL_M
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +58,7 @@ def closed_form(robot, theta, other=False):
 def spy(monkeypatch, fake=None, real_calls=1):
     """Record every Newton start; after the first ``real_calls`` calls ``fake(self, q, real)``
     gives the result."""
-    real = closure._Loops.newton
+    real = continuation.Loops.newton
     guesses = []
 
     def newton(self, q):
@@ -67,18 +67,19 @@ def spy(monkeypatch, fake=None, real_calls=1):
             return real(self, q)
         return fake(self, q, real)
 
-    monkeypatch.setattr(closure._Loops, "newton", newton)
+    monkeypatch.setattr(continuation.Loops, "newton", newton)
     return guesses
 
 
 def force_cond(monkeypatch, cond):
     """Every pose the continuation builds reports the 1-norm condition number ``cond``."""
-    class Forced(closure._Pose):
+    class Forced(continuation.Pose):
         def __init__(self, loops, q, jac=None):
             super().__init__(loops, q, jac)
             self.cond = cond
 
-    monkeypatch.setattr(closure, "_Pose", Forced)
+    monkeypatch.setattr(closure, "Pose", Forced)  # the first pose
+    monkeypatch.setattr(continuation, "Pose", Forced)  # every step's
 
 
 OUTSIDE = ("slider_crank: the loops cannot be closed at t = 0.5 s (sample 1) for actuated "
@@ -94,9 +95,9 @@ def test_newton_keeps_correcting_at_a_residual_of_exactly_the_tolerance(slider):
     """|Phi| == NEWTON_TOL_M is not below it: all NEWTON_MAX_ITER corrections are made (one ulp
     less stops at once, the pose untouched)."""
     act, pas = closure.partition(slider)
-    loops = closure._Loops(slider, act, pas)
+    loops = continuation.Loops(slider, act, pas)
     q0 = closed_form(slider, [0.5])[0]
-    for value, calls in ((TOL, closure.NEWTON_MAX_ITER), (np.nextafter(TOL, 0.0), 1)):
+    for value, calls in ((TOL, continuation.NEWTON_MAX_ITER), (np.nextafter(TOL, 0.0), 1)):
         seen = []
 
         def phi(q, value=value, seen=seen):
@@ -114,7 +115,7 @@ def test_newton_keeps_correcting_at_a_residual_of_exactly_the_tolerance(slider):
 def test_the_first_sample_is_refused_at_a_residual_of_exactly_the_tolerance(slider,
                                                                            monkeypatch):
     q0 = closed_form(slider, [0.5])[0]
-    monkeypatch.setattr(closure._Loops, "newton", lambda self, q: (q.copy(), TOL))
+    monkeypatch.setattr(continuation.Loops, "newton", lambda self, q: (q.copy(), TOL))
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.5]], q0, T[1:])
     assert str(exc.value) == ("slider_crank: the loops cannot be closed at t = 0.5 s (sample 0) "
@@ -123,7 +124,7 @@ def test_the_first_sample_is_refused_at_a_residual_of_exactly_the_tolerance(slid
                               "the 1e-13 m of closed loops: at or just past the edge of the "
                               "workspace): outside the workspace")
     below = np.nextafter(TOL, 0.0)
-    monkeypatch.setattr(closure._Loops, "newton", lambda self, q: (q.copy(), below))
+    monkeypatch.setattr(continuation.Loops, "newton", lambda self, q: (q.copy(), below))
     assert np.array_equal(closure.solve_passive(slider, [[0.5]], q0)[0], q0)
 
 
@@ -141,7 +142,7 @@ def test_a_step_closed_to_exactly_the_tolerance_is_not_taken(slider, monkeypatch
         closure.solve_passive(slider, [[0.0], [0.02]], closed_form(slider, [0.0])[0], T)
     assert str(exc.value) == OUTSIDE.format(qa=0.02, deg=np.degrees(0.02), why="|Phi| = 1e-13 m, not below the 1e-13 m of closed loops: at or just past the "
                                                 "edge of the workspace")
-    assert len(guesses) == 1 + 1 + closure.MAX_HALVINGS
+    assert len(guesses) == 1 + 1 + continuation.MAX_HALVINGS
 
 
 # ---------------------------------------------------------------- 'near' and the far refusal
@@ -172,7 +173,7 @@ def test_a_correction_exactly_half_the_prediction_away_is_near(slider, monkeypat
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(slider, [[0.0], [0.0]], q0, T)
     assert str(exc.value) == OUTSIDE.format(qa=0.0, deg=0.0, why=CLOSED_FAR.format(res=0))
-    assert len(guesses) == 1 + 1 + closure.MAX_HALVINGS
+    assert len(guesses) == 1 + 1 + continuation.MAX_HALVINGS
 
 
 def test_newton_closing_the_loops_a_turn_away_is_refused_as_another_solution(slider,
@@ -212,33 +213,33 @@ def test_a_step_of_exactly_one_over_cond_is_taken_whole(slider, monkeypatch):
 
 def test_a_predicted_passive_step_of_exactly_max_step_is_taken_whole(slider, monkeypatch):
     """From crank 0 the rod's relative angle moves -1.5 times the crank; the crank step b whose
-    prediction max|dp| (computed as _follow computes it) is exactly MAX_STEP is taken in one
+    prediction max|dp| (computed as continuation.follow computes it) is exactly MAX_STEP is taken in one
     step (|step| * cond = 0.11 there); a larger one is halved."""
     act, pas = closure.partition(slider)
     q0 = closure.solve_passive(slider, [[0.0]], closed_form(slider, [0.0])[0])[0]
-    pose = closure._Pose(closure._Loops(slider, act, pas), q0)
+    pose = continuation.Pose(continuation.Loops(slider, act, pas), q0)
 
     def dp_max(b):
         step = np.array([b]) - q0[act]
         return float(np.max(np.abs(-pose.inv @ (pose.jac[:, act] @ step))))
 
-    b = closure.MAX_STEP / dp_max(1.0)
+    b = continuation.MAX_STEP / dp_max(1.0)
     candidates = [b]
     for direction in (1.0, -1.0):
         x = b
         for _ in range(2000):
             x = float(np.nextafter(x, direction))
             candidates.append(x)
-    exact = [x for x in candidates if dp_max(x) == closure.MAX_STEP]
+    exact = [x for x in candidates if dp_max(x) == continuation.MAX_STEP]
     assert exact, "no crank step gives exactly MAX_STEP of passive motion"
     b = exact[0]
-    assert abs(b * 1.5 - closure.MAX_STEP) < 1e-15 and b * pose.cond < 1.0
+    assert abs(b * 1.5 - continuation.MAX_STEP) < 1e-15 and b * pose.cond < 1.0
     guesses = spy(monkeypatch)
     q = closure.solve_passive(slider, [[0.0], [b]], q0)
     assert len(guesses) == 2
     assert np.max(np.abs(q - closed_form(slider, [0.0, b]))) < 1e-12
     over = max(candidates, key=dp_max)
-    assert dp_max(over) > closure.MAX_STEP
+    assert dp_max(over) > continuation.MAX_STEP
     guesses = spy(monkeypatch)
     closure.solve_passive(slider, [[0.0], [over]], q0)
     assert len(guesses) > 2

@@ -1,6 +1,6 @@
 """A closed chain driven at its actuated joints gives the same motion whatever the sampling
 (issue 25, class 5): the passive joints follow the loops from sample to sample in steps of at
-most ``closure.MAX_STEP``, predicted along the loops' tangent, corrected by Newton, and kept in
+most ``continuation.MAX_STEP``, predicted along the loops' tangent, corrected by Newton, and kept in
 the assembly mode they started in (the sign of det Phi_p). Before, Newton took one full step
 per sample: ``examples/jansen_turn.toml`` at 61 samples folded the leg over (peak 49.6 N*m
 against 19.4 N*m, the foot 782 mm off at the same times).

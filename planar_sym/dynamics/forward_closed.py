@@ -9,7 +9,8 @@ from ..errors import InputError, SimulationError
 from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
-from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_state
+from ..motion.closure import complete_state
+from ..motion.continuation import NEWTON_MAX_ITER, NEWTON_TOL_M
 from .integrate import (
     SCIPY_METHODS,
     Simulation,

@@ -24,7 +24,8 @@ import numpy as np
 
 from ..errors import InputError, WorkspaceError, warn_caller
 from ..model.robot import Robot
-from ..motion.closure import NEWTON_MAX_ITER, NEWTON_TOL_M, complete_rates, from_actuated
+from ..motion.closure import complete_rates, from_actuated
+from ..motion.continuation import NEWTON_MAX_ITER, NEWTON_TOL_M
 from ..motion.profiles import JointTrajectory
 from .base import BaseParameters, base_parameters
 from .fourier import FourierMotion, basis

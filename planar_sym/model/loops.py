@@ -17,7 +17,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import InputError, WorkspaceError, warn_caller
+from ..errors import InputError, WorkspaceError
 from .arrays import when
 
 #: a Jacobian whose condition number exceeds this is called singular. Near a singularity the
@@ -103,17 +103,3 @@ def check_on_loops(robot_name: str, loops: tuple[str, ...], phi, phi_v, phi_a, q
                 f"is off the loop constraints: |{what.split(' (')[0]}| = {worst[k]:.3g} "
                 f"{what.split('(')[1][:-1]} at cut joint {cut} (limit {limit[k]:.3g}); "
                 "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)")
-
-
-def warn_between_samples(name: str, cond: np.ndarray, passed: np.ndarray, t) -> None:
-    """Warn where Phi_p's condition number on the way to a sample (``passed``, (N,)) is above
-    COND_WARN while every sample's (``cond``) is below: torques and loads, which grow like it,
-    peak between the samples (a trial's four-bar near its change point: 0.34 N*m peak at 101
-    samples, 137 at 100001, no word). Finer samplings see it at the samples themselves."""
-    if len(cond) < 2 or cond.max() > COND_WARN or passed.max() <= COND_WARN:
-        return
-    k = int(np.argmax(passed))
-    warn_caller(f"{name}: between {when(t, k - 1)} and {when(t, k)} the loops pass near a "
-                f"singular pose (Phi_p's 1-norm condition number {passed[k]:.3g} there, at "
-                f"most {cond.max():.3g} at the samples): torques and joint loads peak between "
-                "the samples, so the peaks reported are too low; more samples resolve them")
