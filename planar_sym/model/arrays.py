@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError, warn_caller
+from ..errors import InputError
 
 
 def when(t, k: int) -> str:
@@ -94,18 +94,3 @@ def as_state(q0, qd0, width: int) -> tuple[np.ndarray, np.ndarray]:
     (``width`` values each; ``qd0`` None means at rest)."""
     q0 = as_vector("q0", q0, width)
     return q0, (np.zeros(width) if qd0 is None else as_vector("qd0", qd0, width))
-
-
-def warn_turns(robot, coords, **values) -> None:
-    """Warn once (at the caller's line) where an array of ``values`` (name -> rad, m at a
-    slider, one per coordinate of ``coords``) puts a revolute coordinate beyond a turn:
-    degrees typed as radians, the rule a description's and a study's angles follow, on a
-    Python route (a trial: optimal_move from [30, 60] to [90, -45] meant in degrees planned a
-    60 rad swing without a word)."""
-    for what, array in values.items():
-        for k, (i, v) in enumerate(zip(coords, np.ravel(array))):
-            if robot.coordinate_units[i] == "rad" and abs(v) > 2.0 * np.pi:
-                warn_caller(f"{robot.name}: {what}[{k}] = {v:g} rad ({robot.coordinates[i]}) "
-                            f"is {abs(v) / (2.0 * np.pi):.3g} turns: were the angles typed in "
-                            "degrees? (the Python API takes radians: np.radians)")
-                return

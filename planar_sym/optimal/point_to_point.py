@@ -36,9 +36,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..model.arrays import warn_turns
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
+from .ends import move_ends
 from .limits import description_speed_limits, speed_limits, torque_limits
 
 OBJECTIVES = ("time", "effort", "energy")
@@ -118,9 +118,7 @@ def optimal_move(robot: Robot, q_start, q_end, *, objective: str = "effort",
     # electrical figures
     copper = copper_losses(robot) if objective == "energy" else None
     own = act if closed else list(range(n))  # the coordinates integrated
-    a0, a1 = (_ends(robot, q, name, own) for q, name in ((q_start, "q_start"),
-                                                         (q_end, "q_end")))
-    warn_turns(robot, own, q_start=a0, q_end=a1)
+    a0, a1 = move_ends(robot, q_start, q_end, own)
     # a closed chain's start given as a pose on its loops: its assembly mode, where the
     # passive joints' first guess starts (else the drawn one's)
     seed = (np.asarray(q_start, dtype=float).ravel() if closed
@@ -304,23 +302,6 @@ def _solve(robot: Robot, a0, a1, objective: str, duration_s, lim, v, N: int,
                        {"iterations": int(stats["iter_count"]),
                         "status": str(stats["return_status"]),
                         "constraint_violation": violation, "solve_time_s": took})
-
-
-def _ends(robot: Robot, q, name: str, own: list[int]) -> np.ndarray:
-    """The integrated coordinates of an end state given as them or as every coordinate."""
-    arr = np.asarray(q, dtype=float).ravel()
-    if len(arr) == robot.n:
-        if robot.is_closed_chain and np.abs(robot.constraint(arr)).max() > 1e-9:
-            raise InputError(f"{name} is off {robot.name}'s loops (|Phi| = "
-                             f"{np.abs(robot.constraint(arr)).max():.3g} m): give the actuated "
-                             "coordinates, or a pose on the loops")
-        arr = arr[own]
-    if len(arr) != len(own) or not np.all(np.isfinite(arr)):
-        what = (f"its actuated coordinates, or {robot.n} for a pose on its loops"
-                if robot.is_closed_chain else "one per coordinate")
-        raise InputError(f"{name} must be {len(own)} finite value{'s' * (len(own) > 1)} for "
-                         f"{robot.name} ({what}), got {np.asarray(q).tolist()}")
-    return arr
 
 
 def _warm(opti, warm: OptimalMove, own, pas, closed, Qi, Vi, Ai, Qp, Vp, Ap, T) -> None:

@@ -20,7 +20,7 @@ from ..motion.profiles import JointTrajectory
 from . import spec as specs
 from .motion import check_width, coordinate_scale, warn_turns
 
-#: optimal_move's own turns warning (model.arrays.warn_turns), which a study replaces by its own
+#: optimal_move's own turns warning (optimal.ends.warn_turns), which a study replaces by its own
 API_TURNS = r".*were the angles typed in degrees\? \(the Python API takes radians"
 
 if TYPE_CHECKING:  # the optimal layer is imported when a move is asked for
