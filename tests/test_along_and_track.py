@@ -143,6 +143,35 @@ def test_a_closed_chain_started_off_its_reference_starts_on_its_loops(five):
         assert s.peak_torque == pytest.approx(np.max(np.abs(run.tau[:, k])), rel=1e-14)
 
 
+def test_a_closed_chain_plant_of_other_lengths_starts_on_its_own_loops(five):
+    """A model error in a length: the plant's left crank 2 % longer than the model's. The
+    reference is on the model's loops, not the plant's (|Phi_plant| 1.7 mm there), so the run
+    starts at the reference's actuated coordinates (plus start_error) with the passive joints
+    closed on the plant's loops, and says how far they moved. The run was refused, off the
+    loop constraints, with the hint to give the start_error it had."""
+    t = np.linspace(0.0, 0.5, 51)
+    start = np.array(five.q_drawn)[list(five.actuated)]
+    jt = from_actuated(five, t, *quintic(t, start, [0.1, -0.1], 0.5))
+    plant = five.with_parameters(px_L_Link1_CS2=1.02 * five.parameters.get("px_L_Link1_CS2"))
+    act, pas = list(five.actuated), list(five.passive)
+    assert np.max(np.abs(plant.constraint(jt.q[0]))) > 1e-3
+    for err in (None, np.array([0.01, 0.0])):
+        done = track(five, Tracking(jt, law="computed_torque", natural_frequency_hz=5.0,
+                                    start_error=err, plant=plant, samples=11))
+        run = done.run
+        q0 = run.q[0]
+        assert np.array_equal(q0[act], jt.q[0, act] + (0.0 if err is None else err))
+        assert np.max(np.abs(plant.constraint(q0))) < 1e-12
+        jac = plant.constraint_jacobian(q0).reshape(plant.n_constraints, plant.n)
+        assert np.max(np.abs(jac @ run.qd[0])) < 1e-12
+        assert run.initial_correction_rad == np.max(np.abs(q0[pas] - jt.q[0, pas]))
+        assert run.initial_correction_rad > 1e-3
+    # the plant as the model: the reference's own pose, nothing moved
+    run = track(five, Tracking(jt, law="computed_torque", natural_frequency_hz=5.0,
+                               samples=11)).run
+    assert np.max(np.abs(run.q[0] - jt.q[0])) < 1e-12 and run.initial_correction_rad < 1e-12
+
+
 def test_a_request_that_cannot_run_is_refused_by_name(pendulum):
     t = np.linspace(0.0, 1.0, 11)
     moving = JointTrajectory(t, t[:, None], np.ones((11, 1)), np.zeros((11, 1)))

@@ -390,20 +390,27 @@ def test_a_start_exactly_on_a_stopping_limit_is_refused_word_for_word():
 
 def test_a_closed_chain_started_off_its_loops_is_refused_not_projected():
     """Catches the start of a closed chain projected onto the loops instead of checked
-    (simulate_controlled's initial_state(..., False)): the five-bar's drawn pose with its
+    (simulate_controlled's start_state(..., False)): the five-bar's drawn pose with its
     passive joint B turned 0.05 rad opens the loop (|Phi| > 1 mm, computed here), and the
-    run is refused, naming q0 and what to do on this route (it has no project=True, which the
-    message once offered: a trial)."""
+    run is refused, naming q0 and what to do on this route. Asked (project=True, as
+    ``simulate`` has it), B is solved back from the actuated joints: the drawn pose again, and
+    the run says it moved B by 0.05 rad."""
     five = ps.load("five_bar_type1")
     q0 = five.q_drawn + np.array([0.0, 0.05, 0.0, 0.0])
     assert np.max(np.abs(five.constraint(q0))) > 1e-3
     with pytest.raises(InputError) as err:
         simulate_controlled(five, Controller("none"), (0.0, 0.1), q0=q0)
     assert str(err.value).startswith("five_bar_type1: q0 is off the loop constraints: ")
-    assert str(err.value).endswith("give a state on the loops (planar_sym.from_actuated), or "
-                                   "leave q0 out to start on the reference (off it: track's "
-                                   "start_error, on the actuated joints, keeps the loops "
-                                   "closed)")
+    assert str(err.value).endswith("give a state on the loops (planar_sym.from_actuated), pass "
+                                   "project=True to solve the passive joints from the actuated "
+                                   "ones, or leave q0 out to start on the reference (off it: "
+                                   "track's start_error, on the actuated joints, keeps the "
+                                   "loops closed)")
+    run = simulate_controlled(five, Controller("none"), (0.0, 0.1), q0=q0, project=True,
+                              t_eval=[0.0, 0.1])
+    assert np.max(np.abs(run.q[0] - five.q_drawn)) < 1e-9
+    assert run.initial_correction_rad == pytest.approx(0.05, abs=1e-9)
+    assert np.max(np.abs(five.constraint(run.q[-1]))) < 1e-9
 
 
 def test_an_lqr_law_with_a_reference_of_the_wrong_size_is_refused():

@@ -18,7 +18,6 @@ from ..dynamics.sizing import ActuatorSizing, size
 from ..errors import InputError
 from ..model.arrays import as_vector
 from ..model.robot import Robot
-from ..motion.closure import complete_state
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal, from_motion
 from .laws import bandwidth_gains, controller
@@ -150,17 +149,16 @@ def track(robot: Robot, req: Tracking) -> Tracked:
         kp, kd = bandwidth_gains(robot, req.law, jt.q[0], req.natural_frequency_hz, req.damping)
     if req.law != "lqr":
         ctl = controller(req.law, kp, kd, width=len(act), saturate=req.saturate)
-    # the start: on the reference, or off it on the actuated joints (the loops then give a
-    # closed chain's passive joints and rates)
+    # the start: on the reference, or off it on the actuated joints; a closed chain's passive
+    # joints and rates from the plant's loops (a plant of other lengths than the model's is
+    # not on the reference's: refused once, with a hint to give start_error, which it had)
     q0, qd0 = jt.q[0].copy(), jt.qd[0].copy()
     if error is not None:
         q0[act] += error
-    if error is not None and robot.is_closed_chain:
-        q0, qd0 = complete_state(robot, q0[act], qd0[act], q_guess=jt.q[0])
     plant = req.plant or robot
     run = simulate_controlled(
         robot, ctl, (0.0, t_end), reference=None if req.law == "lqr" else ref, plant=plant,
-        q0=q0, qd0=qd0,
+        q0=q0, qd0=qd0, project=robot.is_closed_chain,
         torque=req.torque, t_eval=np.linspace(0.0, t_end, req.samples),
         joint_limits=req.joint_limits, on_joint_limit=req.on_joint_limit,
         on_actuator_limit=req.on_actuator_limit, method=req.method, rtol=req.rtol,

@@ -19,7 +19,6 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..model.arrays import as_state
 from ..model.robot import Robot
 from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal
@@ -43,7 +42,8 @@ LOOP_EVENT = "the loops could not stay assembled"
 
 def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
                         reference: JointTrajectory | Signal | None = None,
-                        plant: Robot | None = None, q0=None, qd0=None, torque=None,
+                        plant: Robot | None = None, q0=None, qd0=None, project: bool = False,
+                        torque=None,
                         t_eval=None, joint_limits: dict | None = None,
                         on_joint_limit: str = "stop", on_actuator_limit: str = "continue",
                         method: str = "dopri5", rtol: float = 1e-10, atol: float = 1e-12,
@@ -65,7 +65,11 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         The robot that moves: the same description with other parameters (a model error).
     q0, qd0 : array, optional
         Initial state, every coordinate (rad or m; /s); default: the reference's first sample.
-        A closed chain's must be on the loops.
+        A closed chain's must be on the plant's loops, or ``project``.
+    project : bool
+        Closed chains: solve the passive joints of ``q0``, ``qd0`` from the actuated ones on
+        the plant's loops (Newton from ``q0``'s passive values, which pick the assembly mode),
+        as ``simulate``'s ``project``; ``initial_correction_rad`` says how far they moved.
     torque : None, (actuated,) array or Signal
         Input torques added to the controller's (N*m or N): constant, or a Signal of time
         (``signals.from_table``); the only input of controller "none".
@@ -85,7 +89,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         ``friction_j``, ``controller``, ``events``. Raises InputError for bad input, including
         an event that fires at the start.
     """
-    from .forward_closed import CONTROLLED_HINT, initial_state
+    from .forward_closed import CONTROLLED_HINT, start_state
     from .integrate import check_tolerances, time_grid
 
     if not isinstance(robot, Robot):
@@ -97,7 +101,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         with watching(progress):
             return simulate_controlled(
                 robot, controller, t_span, reference=reference, plant=plant, q0=q0, qd0=qd0,
-                torque=torque, t_eval=t_eval, joint_limits=joint_limits,
+                project=project, torque=torque, t_eval=t_eval, joint_limits=joint_limits,
                 on_joint_limit=on_joint_limit, on_actuator_limit=on_actuator_limit,
                 method=method, rtol=rtol, atol=atol, max_steps=max_steps)
     plant = robot if plant is None else plant
@@ -125,11 +129,10 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
         if q0 is None:
             raise InputError("give q0 (every coordinate): the reference does not say where "
                              "the passive joints start")
-    q0, qd0 = as_state(q0, qd0, n)
-    if robot.is_closed_chain:
-        q0, qd0 = initial_state(plant, q0, qd0, False, hint=CONTROLLED_HINT)
-    return run_checked(robot, plant, controller, ref, u, q0, qd0, t0, t, joint_limits,
-                       on_joint_limit, on_actuator_limit, method, rtol, atol, max_steps)
+    q0, qd0, moved = start_state(plant, q0, qd0, project, hint=CONTROLLED_HINT)
+    run = run_checked(robot, plant, controller, ref, u, q0, qd0, t0, t, joint_limits,
+                      on_joint_limit, on_actuator_limit, method, rtol, atol, max_steps)
+    return replace(run, initial_correction_rad=moved) if moved else run
 
 
 def run_checked(robot: Robot, plant: Robot, controller: Controller, ref: Signal | None, u,

@@ -23,12 +23,12 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import InputError, SimulationError
-from ..model.arrays import as_state
 from ..model.library import SingleCall
 from ..model.robot import Robot
 from ..motion.signals import Signal
 from ..progress import watching
 from .engine_inputs import check_controller, engine_torque
+from .forward_closed import start_state
 from .integrate import (
     SCIPY_METHODS,
     Simulation,
@@ -122,11 +122,12 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
     tau_of = _on_actuated(torque_function(torque, len(robot.actuated)), robot)
     if engine:  # the compiled loop's rule: a table that covers the run, or constant torques
         torque = engine_torque(torque, len(robot.actuated), float(t_span[0]), float(t_span[1]))
-    q0, qd0 = as_state(q0, qd0, robot.n)  # checked once here, for every route below
+    # checked once here, for every route below (a closed chain's on its loops, or solved)
+    q0, qd0, moved = start_state(robot, q0, qd0, project)
     if engine:
-        return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, project)
+        return _in_the_engine(robot, q0, qd0, t_span, torque, t, rtol, atol, method, moved)
     run = _outside_the_engine(robot, q0, qd0, torque, tau_of, t, rtol, atol, method, max_steps,
-                              project)
+                              moved)
     if callable(torque) or robot.has_friction:  # SciPy integrates the state alone
         return run
     # constant torques and no friction: the work is tau . (q - q0) exactly, the friction loss
@@ -136,14 +137,14 @@ def simulate(robot: Robot, q0, qd0, t_span: tuple[float, float], *, torque: Torq
 
 
 def _outside_the_engine(robot: Robot, q0, qd0, torque, tau_of, t, rtol, atol, method: str,
-                        max_steps: int, project: bool) -> Simulation:
+                        max_steps: int, moved: float) -> Simulation:
     """The free C dopri5, SciPy's methods, or a closed chain's segments."""
     if robot.is_closed_chain:
         from .forward_closed import DRIFT_LIMIT_M, SEGMENT_S, run_closed
 
         return run_closed(robot, q0, qd0, t, torque=torque, rtol=rtol, atol=atol,
                           method=method, segment_s=SEGMENT_S, drift_limit_m=DRIFT_LIMIT_M,
-                          project_state=project)
+                          correction=moved)
     n = robot.n
     x0 = np.concatenate([q0, qd0])
     if method == "dopri5" and not callable(torque):
@@ -203,7 +204,7 @@ def _on_actuated(tau_of, robot: Robot):
 
 def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque,
                    t: np.ndarray, rtol: float, atol: float, method: str,
-                   project: bool) -> Simulation:
+                   moved: float) -> Simulation:
     """SUNDIALS in the simulation engine under the open-loop law "none": its Simulation without
     the control fields (the events it saw kept). ``q0``, ``qd0``, the input ``torque``
     (``engine_torque``) and the output times ``t`` (s) are checked already (``simulate``), so
@@ -214,12 +215,6 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
     n = robot.n
     none = Controller("none")
     check_controller(robot, none)  # a closed chain the loop cannot run is refused, by name
-    correction = 0.0
-    if robot.is_closed_chain:  # checked here, so a state off the loops hears of project=True
-        from .forward_closed import initial_state
-
-        q_on, qd0 = initial_state(robot, q0, qd0, project_state=project)
-        correction, q0 = float(np.max(np.abs(q_on - q0))), q_on
     act = list(robot.actuated)
     # no joint-limit events; the engine's own step limit (simulate's max_steps is dopri5's)
     run = run_checked(robot, robot, none, None, torque, q0, qd0, float(t_span[0]), t, None,
@@ -230,5 +225,5 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
         tau[:, act] = run.tau
     # the same type as the engine's: an open-loop run, so without the control fields (its
     # work and friction integrals kept: the energy balance of the run)
-    return replace(run, tau=tau, initial_correction_rad=correction, q_ref=None, qd_ref=None,
+    return replace(run, tau=tau, initial_correction_rad=moved, q_ref=None, qd_ref=None,
                    tau_cmd=None, controller=None)

@@ -46,21 +46,30 @@ def project(robot: Robot, q, qd) -> tuple[np.ndarray, np.ndarray]:
     return q, qd
 
 
-#: what a state off the loops is told to do, by route (simulate_controlled has no project)
+#: what a state off the loops is told to do, by route
 PROJECT_HINT = ("give a state on the loops (planar_sym.from_actuated), or pass project=True "
                 "(planar_sym.simulate) to solve the passive joints from the actuated ones")
-CONTROLLED_HINT = ("give a state on the loops (planar_sym.from_actuated), or leave q0 out to "
+CONTROLLED_HINT = ("give a state on the loops (planar_sym.from_actuated), pass project=True "
+                   "to solve the passive joints from the actuated ones, or leave q0 out to "
                    "start on the reference (off it: track's start_error, on the actuated "
                    "joints, keeps the loops closed)")
 
 
-def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: bool,
-                  hint: str = PROJECT_HINT) -> tuple[np.ndarray, np.ndarray]:
-    """The user's initial state, checked on the loops (``hint`` says what to do instead); or,
-    asked, its passive joints solved."""
+def start_state(robot: Robot, q0, qd0, project_state: bool = False,
+                hint: str = PROJECT_HINT) -> tuple[np.ndarray, np.ndarray, float]:
+    """A run's start, checked by one rule on every route (``forward.simulate``, its engine
+    and its closed-chain segments, ``engine.simulate_controlled``): ``q0``, ``qd0`` (n,) in
+    rad, rad/s, finite and of the robot's width; a closed chain's on its loops (``hint`` says
+    what to do instead), or, with ``project_state``, its passive joints solved from the
+    actuated ones. Returns the state and how far the passive joints were moved (rad; m at a
+    slider; 0 for a tree)."""
+    q0, qd0 = as_state(q0, qd0, robot.n)
+    if not robot.is_closed_chain:
+        return q0, qd0, 0.0
     if project_state:
         act = list(robot.actuated)
-        return complete_state(robot, q0[act], qd0[act], q_guess=q0)
+        q, qd = complete_state(robot, q0[act], qd0[act], q_guess=q0)
+        return q, qd, float(np.max(np.abs(q - q0)))
     jac = robot.constraint_jacobian(q0).reshape(robot.n_constraints, robot.n)
     phi = robot.constraint(q0).reshape(1, -1)
     zero = np.zeros((1, robot.n_constraints))
@@ -71,7 +80,7 @@ def initial_state(robot: Robot, q0: np.ndarray, qd0: np.ndarray, project_state: 
             raise InputError(str(exc).replace("sample 0", label, 1).replace(
                 "give q, qd, qdd that close the loops (inverse_kinematics, from_actuated)",
                 hint)) from None
-    return q0.copy(), qd0.copy()
+    return q0, qd0, 0.0
 
 
 #: a closed chain is integrated in segments of this length (s), projected onto the loops
@@ -104,15 +113,15 @@ def simulate_closed(robot: Robot, q0, qd0, t_span, *, torque=None, t_eval=None,
     far. ``torque`` acts on the actuated joints. The result reports ``constraint_drift_m``, the
     largest |Phi| at any output time.
     """
-    q0, qd0 = as_state(q0, qd0, robot.n)
+    q0, qd0, correction = start_state(robot, q0, qd0, project_state)
     return run_closed(robot, q0, qd0, time_grid(t_span, t_eval), torque=torque, rtol=rtol,
                       atol=atol, method=method, segment_s=segment_s,
-                      drift_limit_m=drift_limit_m, project_state=project_state)
+                      drift_limit_m=drift_limit_m, correction=correction)
 
 
 def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, torque,
                rtol: float, atol: float, method: str, segment_s: float, drift_limit_m: float,
-               project_state: bool):
+               correction: float):
     """``simulate_closed`` on inputs checked already: ``q0``, ``qd0`` (n,) in rad, rad/s and
     the output times ``t`` (N,) in s (what ``forward.simulate``, the entry point, passes);
     every setting given by the caller (no defaults of its own to drift from theirs)."""
@@ -120,8 +129,7 @@ def run_closed(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t: np.ndarray, *, 
 
     act = list(robot.actuated)
     n = robot.n
-    q, qd = initial_state(robot, q0, qd0, project_state)
-    correction = float(np.max(np.abs(q - q0)))
+    q, qd = q0.copy(), qd0.copy()
     tau_of = torque_function(torque, len(act))
     if method not in ("dopri5", *SCIPY_METHODS):
         raise InputError(f"unknown method {method!r}; known: dopri5, {', '.join(SCIPY_METHODS)}")
