@@ -283,31 +283,21 @@ def test_a_design_leaning_on_smoothed_coulomb_friction_is_said():
         warnings.simplefilter("error")
         plain = ps.lqr(robot.with_parameters(fc_j1=0.0), [-1.0], q_weight=[1, 1], r_weight=1.0)
     assert plain.gain[0, 1] > 8 * leaning.gain[0, 1]
-    from planar_sym.control.lqr import _warn_coulomb_damping
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        _warn_coulomb_damping(robot, ps.linearize(robot, [-1.0], [1.0]))  # 100 v_s: sech^2(100) ~ 5e-87
+    # the slope the warning reads, from the drive train: c / v_s at rest, 5 sech^2(100) ~ 1e-86
+    # at 100 v_s
+    assert robot.drive_train.coulomb_slope([0.0])[0] == pytest.approx(5.0, rel=1e-15)
+    assert robot.drive_train.coulomb_slope([1.0])[0] < 1e-80
 
 
 def test_the_coulomb_slope_is_read_at_its_own_coordinate_of_a_closed_chain():
     """A helper's review: the rates were paired with the state's coordinates by position, so on
-    the five-bar (state coordinates A and E, indices 0 and 2 of q = [A, B, E, D]) E's drive read
-    B's rate. A Coulomb drive on E (c = 0.05 N*m, v_s = 0.01 rad/s, no viscous friction):
-    at rest of E (B moving at 100 v_s) its slope c / v_s = 5 is named; with E at 100 v_s (B at
-    rest) nothing is."""
-    import warnings
-    from types import SimpleNamespace
-
-    from planar_sym.control.lqr import _warn_coulomb_damping
-    from planar_sym.model.drive import Drive
+    the five-bar (q = [A, B, E, D], A and E driven) E's drive read B's rate. A Coulomb drive on
+    E (c = 0.05 N*m, v_s = 0.01 rad/s, no viscous friction): with E at rest and B at 100 v_s
+    its slope is c / v_s = 5; with E at 100 v_s and B at rest, 5 sech^2(100), nothing."""
+    from planar_sym.model.drive import Drive, DriveTrain
 
     e = Drive("E", 2, "N*m", 1.0, 0.0, 0.0, 0.05, 0.01, None, None, None, True)
-    robot = SimpleNamespace(name="five", drive_train=SimpleNamespace(drives=(e,)))
-    with pytest.warns(RuntimeWarning, match=r"five: .* as damping: E 5 N\*m\*s/rad"):
-        _warn_coulomb_damping(robot, SimpleNamespace(coordinates=(0, 2),
-                                                     qd=np.array([0.0, 1.0, 0.0, 0.3])))
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        _warn_coulomb_damping(robot, SimpleNamespace(coordinates=(0, 2),
-                                                     qd=np.array([0.0, 0.0, 1.0, 0.3])))
+    train = DriveTrain((e,), 4)
+    slope = train.coulomb_slope(np.array([0.0, 1.0, 0.0, 0.3]))
+    assert slope[2] == pytest.approx(5.0, rel=1e-15) and slope[[0, 1, 3]].tolist() == [0, 0, 0]
+    assert train.coulomb_slope(np.array([0.0, 0.0, 1.0, 0.3]))[2] < 1e-80

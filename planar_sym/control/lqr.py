@@ -51,6 +51,11 @@ class LQR:
                           u_ref=tuple(lin.tau.tolist()))
 
 
+#: Coulomb friction's slope at the state, over the joint's viscous friction, past which the
+#: design is said to lean on it
+COULOMB_DAMPING_RATIO = 10.0
+
+
 def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
     """The LQR gain of ``robot`` about ``q`` (n,) rad (m at a slider), ``qd`` (default zero)
     and ``tau`` (default: the torques that hold it; see ``linearize``).
@@ -69,7 +74,19 @@ def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
     qm = _weight("q_weight", q_weight, 2 * held, definite=False)
     rm = _weight("r_weight", r_weight, na, definite=True)
     lin = linearize(robot, q, qd, tau)
-    _warn_coulomb_damping(robot, lin)
+    # at rest the smoothed Coulomb friction c tanh(qd / v_s) linearises to a damping c / v_s
+    # that holds only below v_s (0.01 rad/s by default): a trial's geared arm got 20 N*m*s/rad
+    # against 0.05 of viscous friction, rate gains 10 times lower, and no word
+    drives = robot.drive_train
+    slope = drives.coulomb_slope(lin.qd)  # lin.qd: every coordinate, a drive's at its own
+    leaning = [f"{d.joint} {slope[d.coordinate]:.3g} {d.unit}*s/{'m' if d.unit == 'N' else 'rad'} "
+               f"(viscous {d.viscous:.3g})" for d in drives.drives
+               if slope[d.coordinate] > COULOMB_DAMPING_RATIO * d.viscous]
+    if leaning:
+        warn_caller(f"{robot.name}: the linearisation counts smoothed Coulomb friction as "
+                    f"damping: {'; '.join(leaning)}, a slope that holds only within the "
+                    "smoothing speed of rest: the gains lean on it. To design without it, "
+                    "linearise robot.with_parameters(fc_<joint>=0)")
     scale = max(float(np.abs(lin.a).max()), 1.0)
     if np.abs(lin.qdd).max() > 1e-9 * scale:
         raise InputError(f"{robot.name}: not an equilibrium (qdd = {lin.qdd.tolist()} there): "
@@ -87,36 +104,6 @@ def lqr(robot: Robot, q, qd=None, tau=None, *, q_weight, r_weight) -> LQR:
         raise InputError(f"{robot.name}: the LQR loop is not stable (poles {poles}): weight "
                          "every state that can drift (q_weight)")
     return LQR(k, p, poles, lin, qm, rm)
-
-
-#: Coulomb friction's slope at the state, over the joint's viscous friction, past which the
-#: design is said to lean on it
-COULOMB_DAMPING_RATIO = 10.0
-
-
-def _warn_coulomb_damping(robot: Robot, lin: Linearization) -> None:
-    """At rest the smoothed Coulomb friction c tanh(qd / v_s) linearises to a damping c / v_s,
-    which holds only below v_s (0.01 rad/s by default): a trial's geared arm got 20 N*m*s/rad
-    against 0.05 of viscous friction, rate gains 10 times lower than without it, and no word.
-    Said where that slope passes ``COULOMB_DAMPING_RATIO`` times the viscous friction."""
-    # the rates of the state designed about: lin.qd holds every coordinate (n), a closed
-    # chain's state only its actuated ones (lin.coordinates)
-    qd = np.asarray(lin.qd, dtype=float).reshape(-1)
-    rate = {i: float(qd[i]) for i in lin.coordinates}
-    leaning = []
-    for d in robot.drive_train.drives:
-        if d.coulomb <= 0 or d.smoothing <= 0:
-            continue
-        qd = rate.get(d.coordinate, 0.0)
-        slope = d.coulomb / d.smoothing * (1 - np.tanh(qd / d.smoothing) ** 2)
-        if slope > COULOMB_DAMPING_RATIO * d.viscous:
-            leaning.append(f"{d.joint} {slope:.3g} {d.unit}*s/{'m' if d.unit == 'N' else 'rad'} "
-                           f"(viscous {d.viscous:.3g})")
-    if leaning:
-        warn_caller(f"{robot.name}: the linearisation counts smoothed Coulomb friction as "
-                    f"damping: {'; '.join(leaning)}, a slope that holds only within the "
-                    "smoothing speed of rest: the gains lean on it. To design without it, "
-                    "linearise robot.with_parameters(fc_<joint>=0)")
 
 
 def _weight(name: str, w, size: int, definite: bool) -> np.ndarray:

@@ -111,6 +111,13 @@ class DriveTrain:
         qd = np.asarray(qd, dtype=float)
         return self.viscous * qd + self.coulomb * np.tanh(qd / self.smoothing)
 
+    def coulomb_slope(self, qd) -> np.ndarray:
+        """d/dqd of the smoothed Coulomb friction, c / v_s sech^2(qd / v_s), per coordinate
+        (shape like ``qd``): N*m*s/rad (N*s/m), the damping a linearisation counts it as, which
+        holds only within about v_s of that rate (c / v_s at rest)."""
+        x = np.asarray(qd, dtype=float) / self.smoothing
+        return self.coulomb / self.smoothing * (1.0 - np.tanh(x) ** 2)
+
     def friction_power(self, qd) -> np.ndarray:
         """D(qd) . qd (W), the power friction dissipates (>= 0), shape (N,) or ()."""
         qd = np.asarray(qd, dtype=float)
