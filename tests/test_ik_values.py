@@ -441,21 +441,24 @@ def test_check_square_messages(five):
 
 def test_stacked_jacobian(arm, five):
     """[Phi_q; J] for the closed chain: loop rows first, then the task rows; the 2-DOF arm's J
-    by hand; nothing solved gives empty arrays of the right shapes."""
-    A0, x0 = newton.stacked_jacobian(five, np.zeros((0, 4)))
-    assert A0.shape == (0, 4, 4) and x0.shape == (0, 2)
-    A0, x0 = newton.stacked_jacobian(arm, np.zeros((0, 2)))
-    assert A0.shape == (0, 2, 2) and x0.shape == (0, 2)
+    by hand; nothing solved gives empty arrays of the right shapes; Jdot qd is the task's."""
+    from planar_sym.model.kinematics import stacked_jacobian
+
+    A0, x0, j0 = stacked_jacobian(five, np.zeros((0, 4)))
+    assert A0.shape == (0, 4, 4) and x0.shape == (0, 2) and j0.shape == (0, 2)
+    A0, x0, j0 = stacked_jacobian(arm, np.zeros((0, 2)))
+    assert A0.shape == (0, 2, 2) and x0.shape == (0, 2) and j0.shape == (0, 2)
     q = five.q_drawn + np.array([[0.0, 0.0, 0.0, 0.0], [0.01, -0.02, 0.03, 0.04]])
-    S, x = newton.stacked_jacobian(five, q)
+    S, x, _ = stacked_jacobian(five, q)
     assert S.shape == (2, 4, 4) and x.shape == (2, 2)
     assert np.array_equal(S[:, :2], five.constraint_jacobian(q).reshape(2, 2, 4))
     assert np.array_equal(S[:, 2:], five.task(q)[1].reshape(2, 2, 4))
     assert np.array_equal(x, five.task(q)[0])
     assert np.max(np.abs(x[0] - [0.060852, 0.154665])) < 1e-9  # P drawn
     qa = np.array([[0.5, 1.0], [-0.3, 2.0], [1.0, -0.5]])
-    S, x = newton.stacked_jacobian(arm, qa)
+    S, x, jdq = stacked_jacobian(arm, qa, np.ones_like(qa))
     assert np.max(np.abs(S - jac2(qa))) < 1e-15 and np.max(np.abs(x - fk2(qa))) < 1e-15
+    assert np.max(np.abs(jdq - jdot_qd2(qa, np.ones_like(qa)))) < 1e-14  # by hand
 
 
 def test_verify_edges(arm, five):

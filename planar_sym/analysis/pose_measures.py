@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.kinematics import stacked_jacobian
 from ..model.loops import COND_LIMIT
 from ..model.robot import Robot
 
@@ -38,14 +39,12 @@ def scales(robot: Robot, length_scale: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def stacked(robot: Robot, q: np.ndarray, qd=None):
-    """K = [Phi_q; J] (N, n, n), x (N, nt), Phi (N, m) and Jdot qd (N, nt) at poses q (N, n)."""
-    N, n, m, nt = len(q), robot.n, robot.n_constraints, len(robot.task_names)
-    x, J, jdq = robot.task(q, qd)
-    x, J, jdq = np.reshape(x, (N, nt)), np.reshape(J, (N, nt, n)), np.reshape(jdq, (N, nt))
-    if not m:
-        return J, x, np.zeros((N, 0)), jdq
-    phi = np.reshape(robot.constraint(q), (N, m))
-    return np.concatenate([np.reshape(robot.constraint_jacobian(q), (N, m, n)), J], 1), x, phi, jdq
+    """K = [Phi_q; J] (N, n, n), x (N, nt), Phi (N, m) and Jdot qd (N, nt) at poses q (N, n)
+    (``model.kinematics.stacked_jacobian``, the generic inverse kinematics' K, with Phi)."""
+    k, x, jdq = stacked_jacobian(robot, q, qd)
+    m = robot.n_constraints
+    phi = np.reshape(robot.constraint(q), (len(q), m)) if m else np.zeros((len(q), 0))
+    return k, x, phi, jdq
 
 
 def _ratio(mats: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..model.arrays import as_samples
+from ..model.kinematics import stacked_jacobian
 from ..model.loops import COND_LIMIT
 from ..model.robot import Robot
 from . import newton
@@ -156,7 +157,7 @@ def inverse_kinematics(robot: Robot, traj: Trajectory, *, solver: str = "auto",
     solved = len(q) if run is None or run.failed is None else run.failed
     N, zeros = len(t), np.zeros((len(t), robot.n_constraints))
     A = np.tile(np.eye(robot.n), (N, 1, 1))
-    A[:solved], x_of_q = newton.stacked_jacobian(robot, q[:solved])
+    A[:solved], x_of_q, _ = stacked_jacobian(robot, q[:solved])
     if run is not None:
         newton.verify(fails, robot, q[:solved], x_of_q, x[:solved])
     cond = np.full(N, np.inf)

@@ -24,6 +24,7 @@ import numpy as np
 from ..errors import WorkspaceError
 from ..model.arrays import as_vector
 from ..model.compile import load_helper
+from ..model.kinematics import stacked_jacobian
 from ..model.loops import COND_LIMIT
 from ..model.robot import Robot
 from .failures import Failures
@@ -108,18 +109,6 @@ class NewtonRun:
     iterations: int
     evaluations: int
     halvings: int
-
-
-def stacked_jacobian(robot: Robot, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """[Phi_q; J] at each sample, shape (N, n, n), and the task coordinates x(q), (N, n_task)."""
-    N, n, nt = len(q), robot.n, len(robot.task_names)
-    if N == 0:  # nothing solved (the first sample failed)
-        return np.zeros((0, n, n)), np.zeros((0, nt))
-    x, J, _ = robot.task(q)
-    J = J.reshape(N, nt, n)
-    if robot.is_closed_chain:
-        J = np.concatenate([robot.constraint_jacobian(q).reshape(N, -1, n), J], axis=1)
-    return J, np.asarray(x).reshape(N, nt)
 
 
 def verify(fails: Failures, robot: Robot, q: np.ndarray, x_of_q: np.ndarray,
