@@ -24,7 +24,7 @@ from ..motion.profiles import JointTrajectory
 from ..motion.signals import Signal
 from ..progress import ambient, watching
 from .engine_c import MAX_EVENTS_LOGGED, _array, _functions, _Setup, control_values
-from .engine_inputs import _reference, check_controller, engine_torque
+from .engine_inputs import check_controller, engine_reference, engine_torque
 from .events import Event, actuator_events, joint_limit_events, output_events
 from .laws import Controller
 from .run_result import Simulation
@@ -116,9 +116,7 @@ def simulate_controlled(robot: Robot, controller: Controller, t_span, *,
     t = time_grid(t_span, t_eval)
     t0, t1 = float(t_span[0]), float(t_span[1])
     n = robot.n
-    ref = _reference(robot, reference, controller)
-    if ref is not None:
-        ref.covers(t0, t1, "the reference motion")
+    ref = engine_reference(robot, reference, controller, t0, t1)
     u = engine_torque(torque, na, t0, t1)
     if q0 is None:
         if isinstance(reference, JointTrajectory):

@@ -43,6 +43,17 @@ def check_controller(robot: Robot, ctl: Controller) -> None:
                              "actuated joints")
 
 
+def engine_reference(robot: Robot, reference, ctl: Controller, t0: float, t1: float
+                     ) -> Signal | None:
+    """The reference as the compiled loop takes it: None (law "lqr", or "none" without one), or
+    a Signal over the actuated coordinates covering ``t0`` to ``t1`` (s), from a
+    JointTrajectory (every coordinate) or a Signal of the actuated ones."""
+    ref = _reference(robot, reference, ctl)
+    if ref is not None:
+        ref.covers(t0, t1, "the reference motion")
+    return ref
+
+
 def _reference(robot: Robot, reference, ctl: Controller) -> Signal | None:
     na = len(robot.actuated)
     if ctl.kind == "lqr":  # it holds its own state; a reference would not be used
