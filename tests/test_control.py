@@ -372,6 +372,36 @@ def test_builtin_control_studies_balance_energy(name):
     assert np.max(np.abs(total - taus)) < 1e-9
 
 
+def test_a_closed_chain_study_with_a_plant_of_other_lengths_starts_on_its_loops(tmp_path):
+    """The built-in five-bar tracking study with the plant's left crank 4 mm longer (a model
+    error in a length, typed "104 mm" in the study's [control.plant]): it was refused, q0 off
+    the loop constraints, with the hint to leave q0 out, which the study had. It starts at the
+    reference's actuated angles with B and D closed on the plant's loops (checked with the
+    plant's own constraint), and the note says how far B moved from the reference."""
+    import re
+    from pathlib import Path
+
+    import planar_sym as ps
+
+    src = Path(ps.__file__).parent / "studies" / "five_bar_type1_track_x.toml"
+    text = src.read_text().replace("m_R_Link2 = 0.0594\n",
+                                   'm_R_Link2 = 0.0594\npx_L_Link1_CS2 = "104 mm"\n')
+    text = text[:text.index("[outputs]")]
+    path = tmp_path / "longer.toml"
+    path.write_text(text)
+    res = run(path, 101)
+    plant = ps.load("five_bar_type1").with_parameters(px_L_Link1_CS2=0.104)
+    q0 = np.array([res.get("q", index=i).values[0] for i in range(4)])
+    assert np.max(np.abs(plant.constraint(q0))) < 1e-12
+    assert [res.get("q", index=i).values[0] for i in (0, 2)] == [
+        res.get("q_ref", index=i).values[0] for i in (0, 2)]
+    moved = float(re.search(r"start: passive joints closed on the plant's loops \(B ([0-9.e-]+) "
+                            r"rad from the reference\)", res.note).group(1))
+    assert moved == pytest.approx(abs(q0[1] - res.reference[0, 1]), rel=1e-3)
+    assert moved > 1e-2
+    assert np.max(np.abs(res.columns["balance_j"])) < 1e-9 * np.max(np.abs(res.columns["work_j"]))
+
+
 # -- as a student types it ---------------------------------------------------------------------
 
 def test_one_gain_for_every_joint_in_a_study_and_in_python(tmp_path):

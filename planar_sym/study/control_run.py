@@ -257,6 +257,12 @@ def _result(st: specs.Study, robot: Robot, done: Tracked) -> Result:
         note += "; plant parameters differ: " + ", ".join(sorted(st.control.plant))
     if robot.is_closed_chain:
         note += f"; loop residual max |Phi| = {run.constraint_drift_m:.1e} m"
+        moved = np.abs(run.q[0] - q_ref_full[0])
+        moved[list(robot.actuated)] = 0.0  # (a start_error is the study's own)
+        if moved.max() > 1e-9:  # the plant's loops are not the reference's (other lengths)
+            i = int(np.argmax(moved))
+            note += (f"; start: passive joints closed on the plant's loops ({robot.coordinates[i]}"
+                     f" {moved[i]:.3g} {units[i]} from the reference)")
     if run.events:
         note += "; EVENTS: " + "; ".join(str(e) for e in run.events)
     return Result(st.name, st.title, data, kind="control", note=note, split=done.split,
