@@ -206,9 +206,11 @@ def _in_the_engine(robot: Robot, q0: np.ndarray, qd0: np.ndarray, t_span, torque
                    t: np.ndarray, rtol: float, atol: float, method: str,
                    moved: float) -> Simulation:
     """SUNDIALS in the simulation engine under the open-loop law "none": its Simulation without
-    the control fields (the events it saw kept). ``q0``, ``qd0``, the input ``torque``
-    (``engine_torque``) and the output times ``t`` (s) are checked already (``simulate``), so
-    the engine's run is entered past ``simulate_controlled``'s checks (``run_checked``)."""
+    the control fields (the events it saw kept). ``q0``, ``qd0`` (``start_state``: a closed
+    chain's on its loops, its passive joints ``moved`` that far to get there), the input
+    ``torque`` (``engine_torque``) and the output times ``t`` (s) are checked already
+    (``simulate``), so the engine's run is entered past ``simulate_controlled``'s checks
+    (``run_checked``)."""
     from .engine import run_checked
     from .laws import Controller
 
