@@ -150,7 +150,10 @@ def test_the_rig_workflow_on_clean_data_and_a_fit_that_explains_little(tmp_path,
     friction the description has no place for; now it is left out as too small to matter. The
     same file with its angles in degrees under the rad headers was identified into a robot
     without a word, its fit explaining 28 % and 7 % of the torques: now a warning says how much
-    is left unexplained and asks about units."""
+    is left unexplained and asks about units. What such a fit gives is noise: on one machine
+    the values passed the description's rules and the robot was written, on another (the
+    exciting motion's start search landing elsewhere: 93 % and 98 % unexplained) they broke
+    them, and the refusal blamed the parameters; it now says the data are the likely cause."""
     assert main(["excite", "serial_2dof", "--duration", "5", "--out",
                  str(tmp_path / "e.toml")]) == 0
     assert main(["run", str(tmp_path / "e.toml"), "--out", str(tmp_path / "run"),
@@ -166,13 +169,18 @@ def test_the_rig_workflow_on_clean_data_and_a_fit_that_explains_little(tmp_path,
     assert main(["identify", "serial_2dof", "--data", str(tmp_path / "rig.csv"), "--out",
                  str(tmp_path / "id"), "--quiet"]) == 0, capsys.readouterr().err
     assert "unexplained" not in capsys.readouterr().err
-    assert main(["identify", "serial_2dof", "--data", str(tmp_path / "deg.csv"), "--out",
-                 str(tmp_path / "id_deg"), "--quiet"]) == 0
+    rc = main(["identify", "serial_2dof", "--data", str(tmp_path / "deg.csv"), "--out",
+               str(tmp_path / "id_deg"), "--quiet"])
     err = capsys.readouterr().err
     assert err.count("the fit leaves much of the torque unexplained") == 1, err
     said = re.search(r"joint1 ([0-9.]+) %, joint2 ([0-9.]+) %", err)
     assert said and float(said[1]) > 20 and float(said[2]) > 20
     assert "the angles in radians" in err
+    # written with the warning, or refused with the fit named as the likely cause
+    assert rc == 0 or (rc == 2 and f"the fit leaves joint1 {said[1]} %, joint2 {said[2]} % of "
+                       "the torque unexplained: the data, more likely than the robot, are off"
+                       in err), err
+    assert (tmp_path / "id_deg" / "identified_robot.toml").is_file() == (rc == 0)
 
 
 @pytest.mark.parametrize("option", ["--range", "--speed", "--acceleration"])

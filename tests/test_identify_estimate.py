@@ -136,6 +136,43 @@ def test_physically_consistent_fit():
     assert fit.distance < 2 * np.sqrt(len(est.values))
 
 
+def test_a_poor_fit_refused_by_the_description_s_rules_names_the_data(monkeypatch):
+    """A fit of the wrong data (angles in degrees under rad headers: 93 % and 98 % of the
+    torques unexplained on one machine) gave values the description's rules refuse, and the
+    refusal blamed the parameters ("a unit or decimal-point slip?"). After a poor fit the
+    refusal now adds that the data are the likely cause, with the shares; after a good fit it
+    is the rules' own. The rules' refusal is planted here (the fit itself is a good one)."""
+    from dataclasses import replace
+
+    from planar_sym.errors import DescriptionError, InputError
+    from planar_sym.model.robot import Robot
+
+    nominal = ps.load("serial_2dof")
+    t, q, tau, _ = _measured(nominal, _truth(nominal, 3), 11)
+    est = identify(nominal, experiment(nominal, t, q, tau, cutoff_hz=10.0))
+    assert est.poor_fit == "" and max(est.unexplained) < 0.05  # a good fit, measured
+    fit = physical_parameters(nominal, est)
+    poor = replace(est, unexplained=(0.934, 0.983))
+    assert poor.poor_fit == "joint1 93.4 %, joint2 98.3 %"
+    rule = "serial_2dof: parameter cgx_link2 puts the centre of gravity outside the body"
+    why = ("hese are the fit's values, and the fit leaves joint1 93.4 %, joint2 98.3 % of the "
+           "torque unexplained: the data, more likely than the robot, are off (angles in "
+           "degrees under rad headers, torques in another unit, another robot's data)")
+    for error, planted, said in ((InputError, InputError(rule), f"{rule}. T{why}"),
+                                 (DescriptionError, DescriptionError([rule]),
+                                  f"invalid robot description:\n  {rule}\n  t{why}")):
+        def refuse(self, _e=planted, **values):
+            raise _e
+
+        monkeypatch.setattr(Robot, "with_parameters", refuse)
+        with pytest.warns(RuntimeWarning, match="left out"), pytest.raises(error) as plain:
+            identified_robot(nominal, fit, est)
+        assert plain.value is planted  # a good fit: the rules' own refusal
+        with pytest.warns(RuntimeWarning, match="left out"), pytest.raises(error) as told:
+            identified_robot(nominal, fit, poor)
+        assert str(told.value) == said
+
+
 def test_a_negative_mass_estimate_is_projected():
     """Base parameters that no positive mass reproduces (link2's first moment with the wrong
     sign and a tiny inertia): the fit sits on the cone m I_o = |m c|^2 with m > 0."""

@@ -6,6 +6,8 @@ solution."""
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from conftest import ROOT
@@ -290,7 +292,8 @@ def test_degrees_typed_as_radians_are_asked_about_once(monkeypatch):
     assert [str(w.message) for w in rec] == [
         ("serial_2dof: q_start[0] = 30 rad (joint1) is 4.77 turns: were the angles typed in "
          "degrees? (the Python API takes radians: np.radians)")]
-    assert rec[0].filename == __file__
+    if "MUTANT_UNDER_TEST" not in os.environ:  # under mutmut its trampoline's frame is the
+        assert rec[0].filename == __file__     # caller's (see tests/test_warning_origin.py)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         ps.optimal_move(arm, [0.5, 1.0], [1.5, -0.8], duration_s=1.0)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import DescriptionError, InputError
 from ..model.robot import Robot
 from .estimate import Estimate
 from .standard import StandardParameters, standard_parameters
@@ -195,4 +195,16 @@ def identified_robot(robot: Robot, fit: PhysicalFit, estimate: Estimate) -> Robo
                       "deviations of zero, below 0.1 % of the torques, or not determined by "
                       "this data; the description has no place for them)",
                       RuntimeWarning, stacklevel=2)
-    return robot.with_parameters(**values)
+    try:
+        return robot.with_parameters(**values)
+    except (InputError, DescriptionError) as exc:
+        if not estimate.poor_fit:
+            raise
+        # the description's rules refuse what a fit of the wrong data gives: say so, or the
+        # refusal blames the parameters (a trial: angles in degrees under rad headers)
+        why = (f"these are the fit's values, and the fit leaves {estimate.poor_fit} of the "
+               "torque unexplained: the data, more likely than the robot, are off (angles in "
+               "degrees under rad headers, torques in another unit, another robot's data)")
+        if isinstance(exc, DescriptionError):
+            raise DescriptionError([*exc.problems, why]) from None
+        raise InputError(f"{exc}. {why[0].upper()}{why[1:]}") from None
