@@ -440,13 +440,65 @@ def unknown_builtin(ctx):
 @bad(DESC, "`assemble = true` with a coupler too short to reach the rocker", DescriptionError,
      r"bad\.toml: joints \(B\): loop B cannot be closed from the given pose: its points stay "
      r"[0-9.]+ mm apart",
-     "bad.toml: joints (B): loop B cannot be closed from the given pose: its points stay 5.23 mm "
-     "apart (the links cannot reach, or the pose is far from an assembled one)",
+     "bad.toml: joints (B): loop B cannot be closed from the given pose: its points stay 107.7 "
+     "mm apart with the actuated joints at their given angles (the links cannot reach, or the "
+     "pose is far from an assembled one); the gap is 1.46 times the median size of its ground "
+     "and bodies (73.54 mm)",
      "tests/test_assembly.py")
 def assemble_impossible(ctx):
     text = (ROOT / "examples" / "four_bar.toml").read_text()
     text = text.replace('name = "four_bar"', 'name = "four_bar"\nassemble = true')
     _desc(ctx, text, ("B = [133.880965996, 72.471236661], P", "B = [22.0, 36.0], P"))
+
+
+TU = "tests/test_unit_slips.py::"
+JOINTS = (ROOT / "examples" / "four_bar_joints.toml").read_text()
+
+
+@bad(DESC, "a mass in kg with `mass = \"g\"`: the four-bar's coupler `mass = 0.12`",
+     DescriptionError,
+     r"bad\.toml: bodies\[1\] \(coupler\)\.mass: 0\.12 g \(read in g, 0\.00012 kg\) with izz = "
+     r"144000 g\*mm\^2 gives a radius of gyration of 1095 mm .* The mass \(units\.mass = \"g\"\) "
+     r"read in \"kg\" would be 0\.12 kg",
+     "bad.toml: bodies[1] (coupler).mass: 0.12 g (read in g, 0.00012 kg) with izz = 144000 "
+     "g*mm^2 gives a radius of gyration of 1095 mm for a body whose points reach 60 mm from its "
+     "centre of gravity (more than 3 times; izz / (mass * reach^2) = 333, a uniform rod's is "
+     "1/3): a unit slip? The mass (units.mass = \"g\") read in \"kg\" would be 0.12 kg, a "
+     "radius of gyration of 34.64 mm",
+     TU + "test_a_coupler_mass_typed_in_kg_for_g_is_blamed_on_the_mass")
+def mass_unit_slip(ctx):
+    _desc(ctx, FOUR, ("mass = 120.0", "mass = 0.12"))
+
+
+@bad(DESC, "a body's lengths in m with `length = \"mm\"`: the sketch four-bar's coupler "
+     "`B = [0.12, 0.0]`", DescriptionError,
+     r"bad\.toml: bodies\[1\] \(coupler\)\.points: .* Its points and cg \(units\.length = "
+     r"\"mm\"\) read in \"m\" would reach 60 mm",
+     "bad.toml: bodies[1] (coupler).points: 120 g (read in g, 0.12 kg) with izz = 144000 "
+     "g*mm^2 gives a radius of gyration of 34.64 mm for a body whose points reach 0.06 mm from "
+     "its centre of gravity (more than 3 times; izz / (mass * reach^2) = 3.33e+05, a uniform "
+     "rod's is 1/3): a unit slip? Its points and cg (units.length = \"mm\") read in \"m\" would "
+     "reach 60 mm, the radius of gyration 0.577 times that",
+     TU + "test_a_coupler_typed_in_m_is_one_message_at_its_points")
+def points_unit_slip(ctx):
+    _desc(ctx, JOINTS, ("cg = [60.0, 0.0]", "cg = [0.06, 0.0]"),
+          ("B = [120.0, 0.0], P = [60.0, 30.0]", "B = [0.12, 0.0], P = [0.06, 0.03]"))
+
+
+@bad(DESC, "ground points in m with `length = \"mm\"`: the sketch four-bar's `O4 = [0.1, 0.0]`",
+     DescriptionError,
+     r"bad\.toml: joints \(B\): loop B cannot be closed from the given pose: .*; a length unit "
+     r"slip\? ground\.points read in \"m\" \(size 0\.1 mm as typed, 100 mm so read, the others' "
+     r"median 80 mm\) would close every loop",
+     "bad.toml: joints (B): loop B cannot be closed from the given pose: its points stay "
+     "0.05011 mm apart with the actuated joints at their given angles (the links cannot reach, "
+     "or the pose is far from an assembled one); the gap is 0.000835 times the median size of "
+     "its ground and bodies (60 mm); a length unit slip? ground.points read in \"m\" (size 0.1 "
+     "mm as typed, 100 mm so read, the others' median 80 mm) would close every loop: were they "
+     "typed in \"m\", not units.length = \"mm\"?",
+     TU + "test_ground_points_typed_in_m_hint_at_the_unit")
+def loop_unit_slip(ctx):
+    _desc(ctx, JOINTS, ("O4 = [100.0, 0.0]", "O4 = [0.1, 0.0]"))
 
 
 # -- runtime arrays and parameters ----------------------------------------------------------------

@@ -118,8 +118,10 @@ def test_a_kilometre_is_an_error(tmp_path):
 
 def test_span_just_below_the_warning_is_quiet(tmp_path):
     found = warned(edited(tmp_path, SERIAL, ("CS2 = [0.2, 0.0] }", "CS2 = [99.0, 0.0] }")))
-    # no span warning; a 99 m forearm with its 75 g within 38 mm of its cg is doubted on its own
-    assert [w.split(":")[0] for w in found] == ["bodies[2] (link2).izz"]
+    # no span warning; a 99 m forearm with its 75 g within 38 mm of its cg is doubted on its own,
+    # at its points: read in mm they reach 98.86 mm, the radius of gyration 0.387 times that
+    assert [w.split(":")[0] for w in found] == ["bodies[2] (link2).points"]
+    assert 'read in "mm" would reach 98.86 mm' in found[0]
 
 
 def test_pose_joints_span_is_a_bound(tmp_path):

@@ -28,7 +28,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from .types import GROUND, Assembly, Body, Joint, slide_offset, wrap_angle
+from ..units import factor
+from .types import CLOSURE_TOLERANCE_M, GROUND, Assembly, Body, Joint, slide_offset, wrap_angle
 
 #: the loops are closed to this gap (m), far below the 1e-5 m a typed pose must close to
 ASSEMBLY_TOL_M = 1e-12
@@ -160,8 +161,27 @@ def close_loops(bodies, tree, loops, start, free):
     return angles, placed, gap, steps
 
 
+def sizes(bodies: dict[str, Body]) -> dict[str, float]:
+    """Each body's size (the ground's too): the largest distance between two of its points (m);
+    a body of a single point has none and is left out."""
+    out = {}
+    for name, body in bodies.items():
+        pts = np.array(list(body.points_m.values()), dtype=float)
+        size = float(np.max(np.hypot(*(pts[:, None, :] - pts[None, :, :]).transpose(2, 0, 1))))
+        if size > CLOSURE_TOLERANCE_M:
+            out[name] = size
+    return out
+
+
+def median_size(bodies: dict[str, Body]) -> float:
+    """The mechanism's size: the median of its bodies' and ground's sizes (m; 0 for none), the
+    yardstick of a loop's gap that one body typed in another unit does not move."""
+    values = list(sizes(bodies).values())
+    return float(np.median(values)) if values else 0.0
+
+
 def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
-             start: dict[str, float], reference: dict[str, Body], pose: str):
+             start: dict[str, float], reference: dict[str, Body], pose: str, unit: str = "m"):
     """The bodies with every loop closed from the given pose, and what changed.
 
     Parameters
@@ -177,6 +197,9 @@ def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
         the points' displacements are measured from it.
     pose : str
         ``"world"`` or ``"joints"``, for the record.
+    unit : str
+        The description's length unit (``[units].length``): the messages and the record's
+        report give lengths in it.
 
     Returns
     -------
@@ -191,12 +214,16 @@ def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
     norms = {j.name: float(np.hypot(*gap[2 * k:2 * k + 2])) for k, j in enumerate(loops)}
     if not np.max(np.abs(gap)) < ASSEMBLY_TOL_M:
         open_ = sorted((n for n in norms if norms[n] >= ASSEMBLY_TOL_M), key=lambda n: -norms[n])
-        worst = open_[0]
-        also = "".join(f"; loop {n} too: {norms[n] * 1e3:.4g} mm" for n in open_[1:])
+        worst, per = open_[0], factor("length", unit)
+        size = median_size(bodies)
+        # a gap as large as the links is no small miss: say so against the mechanism's size
+        times = (f"; the gap is {norms[worst] / size:.3g} times the median size of its ground "
+                 f"and bodies ({size / per:.4g} {unit})" if size > 0.0 else "")
+        also = "".join(f"; loop {n} too: {norms[n] / per:.4g} {unit}" for n in open_[1:])
         message = (f"loop {worst} cannot be closed from the given pose: its points "
-                   f"stay {norms[worst] * 1e3:.4g} mm apart{also} with the actuated "
+                   f"stay {norms[worst] / per:.4g} {unit} apart{also} with the actuated "
                    "joints at their given angles (the links cannot reach, or the "
-                   "pose is far from an assembled one)")
+                   f"pose is far from an assembled one){times}")
         return None, (worst, message)
     moved = {f"{b}.{p}": math.dist(placed[b].world(xy), reference[b].world(xy))
              for b in bodies if b != GROUND for p, xy in bodies[b].points_m.items()}
@@ -214,4 +241,4 @@ def assemble(bodies: dict[str, Body], tree: list[Joint], loops: list[Joint],
         gaps_before_m={j.name: float(np.hypot(*gap0[2 * k:2 * k + 2]))
                        for k, j in enumerate(loops)},
         gaps_after_m=norms,
-        iterations=steps, slides=frozenset(slides))
+        iterations=steps, slides=frozenset(slides), length_unit=unit)

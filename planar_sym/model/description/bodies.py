@@ -15,7 +15,15 @@ import math
 from ...spelling import unknown_keys
 from .fields import BODY_KEYS, GROUND_KEYS, NAME, snap
 from .plausibility import Plausibility
-from .quantities import POINT_BALL, QUANTITIES, doubt, inertia_doubt, inertia_fits, mass_doubt
+from .quantities import (
+    POINT_BALL,
+    QUANTITIES,
+    doubt,
+    gyration_slip,
+    inertia_doubt,
+    inertia_fits,
+    mass_doubt,
+)
 from .types import CLOSURE_TOLERANCE_M, GROUND, GYRATION_LIMIT, Body
 
 
@@ -131,7 +139,7 @@ class Bodies(Plausibility):
         body = Body(name, mass * mass_u, izz * inertia_u, cg, local, angle, origin,
                     point_mass=mass_at is not None)
         if mass_at is None and not self._cg_plausible(f, body, cg_from, pose):
-            self._plausible(f, body, (raw["mass"], raw["izz"]), self.data["units"])
+            self._plausible(f, body, (raw["mass"], raw["izz"]), self.unit_names)
         return body
 
     def _plausible(self, f: str, body: Body, typed: tuple[float, float], units: dict) -> None:
@@ -157,6 +165,12 @@ class Bodies(Plausibility):
             self.err(f"{f}.mass", f"{light} (with izz = {izz_given} {unit} it gives a radius "
                                   f"of gyration of {radius * 1e3:.4g} mm for a body whose "
                                   f"points reach {extent * 1e3:.4g} mm)")
+        elif radius > GYRATION_LIMIT * extent and not self.length_slip and (
+                slip := gyration_slip(typed, units, extent)) is not None:
+            # the mass or the points read in another unit fit: not izz's fault (a trial)
+            if slip[0] == "points":
+                self.points_slip |= {body.name}
+            self.err(f"{f}.{slip[0]}", slip[1])
         elif radius > GYRATION_LIMIT * extent and not self.length_slip:  # the slip is reported
             hint = inertia_fits(izz_given, unit, body.mass_kg, extent,
                                 "a unit or decimal-point slip?")
@@ -168,7 +182,8 @@ class Bodies(Plausibility):
             if (msg := mass_doubt(typed[0], units["mass"], extent)) is not None:
                 self.warn(f"{f}.mass", msg)
             elif (msg := inertia_doubt(izz_given, unit, body.mass_kg, extent)) is not None:
-                self.warn(f"{f}.izz", msg)
+                slip = gyration_slip(typed, units, extent)  # g typed as kg: a small radius
+                self.warn(f"{f}.{slip[0]}" if slip else f"{f}.izz", slip[1] if slip else msg)
 
 
     def _point_plausible(self, f: str, body: Body, typed: tuple[float, float],

@@ -47,6 +47,8 @@ class Fields:
         self.path, self.data, self.sha = path, copy.deepcopy(data), sha
         self.problems: list[str] = []
         self.warnings: list[str] = []  # shown only when the description has no error
+        #: ``[units]`` as read (a misspelt quantity under the one it nearly is): known units only
+        self.unit_names: dict[str, str] = {}
 
     def err(self, fld: str, msg: str) -> None:
         self.problems.append(f"{self.path}: {fld}: {msg}")
@@ -157,6 +159,8 @@ class Fields:
                 out[q] = factor(q, u[q]) if isinstance(u[q], str) else factor(q, repr(u[q]))
             except KeyError as exc:
                 self.err(f"units.{q}", f"{exc.args[0]} (got {u[q]!r})")
+            else:
+                self.unit_names[q] = u[q]
         return out
 
     def _units_used(self) -> set[str]:

@@ -48,6 +48,9 @@ class Plausibility(Fields):
     #: the span is doubtful (a warning or an error): a body's mass or inertia against its size
     #: would only repeat the same slip
     span_doubt: bool = False
+    #: bodies whose points read in another unit would make their radius of gyration plausible
+    #: (an error at their points): a joint or loop they leave open says nothing more
+    points_slip: frozenset = frozenset()
     #: an upper bound of the span of the robot's points (m), the yardstick of a single-point
     #: body's cg
     span_m: float = 0.0

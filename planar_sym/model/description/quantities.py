@@ -18,7 +18,16 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..units import UNITS
-from .types import DENSITY_MAX, G_HIGH, G_LIMIT, G_LOW, GYRATION_LIMIT, GYRATION_LOW, SIZE_LARGE_M
+from .types import (
+    DENSITY_MAX,
+    G_HIGH,
+    G_LIMIT,
+    G_LOW,
+    GYRATION_LIMIT,
+    GYRATION_LOW,
+    GYRATION_TYPICAL,
+    SIZE_LARGE_M,
+)
 
 INF = math.inf
 
@@ -263,6 +272,57 @@ def inertia_fits(typed: float, unit: str, mass: float, extent: float, otherwise:
     fits = [(label, a) for label, a in q.alternatives(typed, unit)
             if GYRATION_LOW * extent <= math.sqrt(a / mass) <= GYRATION_LIMIT * extent]
     return f"a slip? {_readings(fits, q.unit)}" if fits else otherwise
+
+
+def gyration_slip(typed: tuple[float, float], units: dict,
+                  extent: float) -> tuple[str, str] | None:
+    """(field, message) when a body's radius of gyration is implausible (above
+    ``GYRATION_LIMIT`` or below ``GYRATION_LOW`` times its reach ``extent``, m) and its mass, or
+    else its points (the reach), read in another unit bring it within ``GYRATION_TYPICAL``;
+    else None (izz is the field to blame). ``typed`` is (mass, izz) as typed in ``units`` (the
+    description's [units]). A reading that makes the body denser than osmium (its mass in the
+    ball of its reach) is no fit. The message names every reading that fits, izz's too: any
+    may be the slip, and one mistake gives one message."""
+    mass_u, izz_u, length_u = units["mass"], units["inertia"], units.get("length")
+    mass, izz = typed[0] * UNITS["mass"][mass_u], typed[1] * UNITS["inertia"][izz_u]
+    if extent <= 0.0 or mass <= 0.0 or izz <= 0.0:
+        return None
+    radius = math.sqrt(izz / mass)
+    if GYRATION_LOW * extent <= radius <= GYRATION_LIMIT * extent:
+        return None
+
+    def typical(m: float, i: float, reach: float = extent) -> bool:
+        return GYRATION_TYPICAL[0] <= math.sqrt(i / m) / reach <= GYRATION_TYPICAL[1]
+
+    def possible(m: float, reach: float = extent) -> bool:  # not denser than osmium
+        return m <= DENSITY_MAX * 4.0 / 3.0 * math.pi * reach ** 3
+
+    masses = [(u, typed[0] * f) for u, f in UNITS["mass"].items()
+              if u != mass_u and possible(typed[0] * f) and typical(typed[0] * f, izz)]
+    lengths = UNITS["length"]
+    reaches = [(u, extent * f / lengths[length_u]) for u, f in lengths.items()
+               if length_u in lengths and u != length_u
+               and possible(mass, r := extent * f / lengths[length_u]) and typical(mass, izz, r)]
+    if not masses and not reaches:
+        return None
+    side = (f"more than {GYRATION_LIMIT:g}" if radius > GYRATION_LIMIT * extent
+            else f"less than {GYRATION_LOW:g}")
+    said = [f'the mass (units.mass = "{mass_u}") read in "{u}" would be {a:.6g} kg, a radius of '
+            f"gyration of {math.sqrt(izz / a) * 1e3:.4g} mm" for u, a in masses]
+    said += [f'its points and cg (units.length = "{length_u}") read in "{u}" would reach '
+             f"{r * 1e3:.4g} mm, the radius of gyration {radius / r:.3g} times that"
+             for u, r in reaches]
+    inertias = [(u, typed[1] * f) for u, f in UNITS["inertia"].items()
+                if u != izz_u and typical(mass, typed[1] * f)]
+    said += [f'izz (units.inertia = "{izz_u}") read in "{u}" would be {a:.6g} kg*m^2, a radius '
+             f"of gyration of {math.sqrt(a / mass) * 1e3:.4g} mm" for u, a in inertias]
+    field = "mass" if masses else "points"
+    text = (f"{_shown(typed[0], mass_u, QUANTITIES['mass'])} with izz = {typed[1]:g} {izz_u} "
+            f"gives a radius of gyration of {radius * 1e3:.4g} mm for a body whose points reach "
+            f"{extent * 1e3:.4g} mm from its centre of gravity ({side} times; izz / (mass * "
+            f"reach^2) = {izz / (mass * extent ** 2):.3g}, a uniform rod's is 1/3): a unit slip? "
+            + "; or ".join(said)[0].upper() + "; or ".join(said)[1:])
+    return field, text
 
 
 def _shown(typed: float, unit: str, q: Quantity) -> str:

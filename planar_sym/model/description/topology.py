@@ -262,11 +262,11 @@ class Topology(Actuators):
                 seen[key] = j
 
     def _mobility(self, tree: list[Joint], loops: list[Joint], bodies: dict[str, Body],
-                  before: int) -> None:
+                  drawn: bool) -> None:
         """Degrees of freedom against actuation and the rank of Phi_q at the drawn pose (see
-        ``mobility``), once that pose is built (no problem since ``before``); else only what
-        the count shows, which explains a loop that the actuated joints hold open."""
-        for problem in mobility.problems(bodies, tree, loops, len(self.problems) == before):
+        ``mobility``), once that pose is built (``drawn``); else only what the count shows,
+        which explains a loop that the actuated joints hold open."""
+        for problem in mobility.problems(bodies, tree, loops, drawn):
             self.err("joints", problem)
 
     def _closure(self, joints: list[Joint], bodies: dict[str, Body]) -> None:

@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..units import UNITS
+
 #: Joints (and loops) must close in the drawn configuration to this gap, in metres. The seed's
 #: tables carry six decimals, so its own rounding stays far below it.
 CLOSURE_TOLERANCE_M = 1e-5
@@ -22,6 +24,12 @@ GYRATION_LIMIT = 3.0
 #: ... and less than this many times is a warning: all the mass within 1% of the body's reach
 #: of its centre of gravity; kg*m^2 typed where kg*mm^2 is read gives 1e-3 times.
 GYRATION_LOW = 0.01
+#: A mass (or the body's points) read in another unit that brings such a radius within these
+#: times the body's reach (a uniform rod has 0.58, a ring 1, a compact hub with a light arm
+#: about 0.1) is named as the slip rather than izz: 0.12 typed for 120 g (units.mass = "g") made
+#: a coupler's radius 18 times its reach, and a trial read it blamed on izz. One reading of the
+#: mass is a factor 1e3, 31.6 in the radius, so a radius 3 times the reach comes back to 0.1.
+GYRATION_TYPICAL = (0.1, 1.5)
 #: A body heavier than the densest element (osmium, 22 590 kg/m^3) filling the ball its points
 #: reach from its centre of gravity is a warning: grams typed as kg make a 71 g link 71 kg,
 #: three times the 24 kg such a ball of osmium around the seed's link1 would weigh.
@@ -208,6 +216,8 @@ class Assembly:
         The same after assembling (m); below ``ASSEMBLY_TOL_M``.
     iterations : int
         Gauss-Newton steps taken.
+    length_unit : str
+        The description's ``[units].length``: ``report`` gives lengths in it.
     """
 
     pose: str
@@ -220,26 +230,29 @@ class Assembly:
     iterations: int
     #: prismatic joints among the above: their values are displacements (m), not angles
     slides: frozenset = frozenset()
+    length_unit: str = "m"
 
     def report(self) -> str:
-        """Plain-text account of the assembled pose and of what moved (``planar-sym draw``)."""
+        """Plain-text account of the assembled pose and of what moved (``planar-sym draw``),
+        lengths in the description's own unit."""
+        u, per = self.length_unit, 1.0 / UNITS["length"][self.length_unit]
         lines = [(f"assembled the loops from the given pose (pose = \"{self.pose}\") in "
                   f"{self.iterations} Gauss-Newton steps:")]
-        lines += [f"  loop {k}: gap {v * 1e3:.4g} mm closed (now {self.gaps_after_m[k]:.2g} m)"
-                  for k, v in self.gaps_before_m.items()]
+        lines += [f"  loop {k}: gap {v * per:.4g} {u} closed (now {self.gaps_after_m[k] * per:.2g}"
+                  f" {u})" for k, v in self.gaps_before_m.items()]
         for k, v in self.angles_rad.items():
             change = self.angle_change_rad[k]
             if k in self.slides:
-                moved = (f"changed by {change * 1e3:+.4g} mm" if abs(change) > 1e-12 else "kept")
-                lines.append(f"  joint {k}: {v * 1e3:.6g} mm along its axis (given "
-                             f"{self.given_rad[k] * 1e3:.6g} mm, {moved})")
+                moved = (f"changed by {change * per:+.4g} {u}" if abs(change) > 1e-12 else "kept")
+                lines.append(f"  joint {k}: {v * per:.6g} {u} along its axis (given "
+                             f"{self.given_rad[k] * per:.6g} {u}, {moved})")
                 continue
             moved = (f"changed by {math.degrees(change):+.4g} deg" if abs(change) > 1e-12
                      else "kept")
             lines.append(f"  joint {k}: {math.degrees(v):.6g} deg (given "
                          f"{math.degrees(self.given_rad[k]):.6g} deg, {moved})")
         moved_pts = sorted(self.point_moved_m.items(), key=lambda kv: -kv[1])
-        lines += [f"  point {k} moved {v * 1e3:.4g} mm" for k, v in moved_pts if v > 1e-12]
+        lines += [f"  point {k} moved {v * per:.4g} {u}" for k, v in moved_pts if v > 1e-12]
         return "\n".join(lines)
 
 

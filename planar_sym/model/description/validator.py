@@ -7,12 +7,14 @@ import math
 
 from ...errors import DescriptionError
 from ...spelling import unknown_keys
+from ..units import UNITS
 from .actuators import ACTUATOR_KEYS
 from .assembly import assemble, place, tree_angles
 from .bodies import Bodies
 from .fields import NAME, TASK_KEYS, TOP_KEYS
 from .topology import Topology
 from .types import GROUND, Body, Description, Joint
+from .unit_slips import unit_slips
 
 #: where a description takes numbers, for ``expressions.numbers``: 0 a number, 1 a list of
 #: numbers; a string there is an expression. Every ``_num`` and ``_vec`` field is here.
@@ -86,7 +88,9 @@ class Validator(Bodies, Topology):
             bodies, assembly = self._drawn_pose(pose, closing, joints, tree, loops, bodies,
                                                 complete)
             if complete:  # a body or joint left out for its own problem: no count to make
-                self._mobility(tree, loops, bodies, before)
+                # a body's points in another unit: its drawn pose is no pose (said at them)
+                self._mobility(tree, loops, bodies,
+                               len(self.problems) == before and not self.points_slip)
         task = self._task(d.get("task"), bodies)
         display = d.get("symbols", {})
         if not isinstance(display, dict) or not all(isinstance(v, str) for v in display.values()):
@@ -124,8 +128,9 @@ class Validator(Bodies, Topology):
                     loops: list[Joint], bodies: dict[str, Body], complete: bool):
         """(bodies placed in the drawn pose, Assembly or None); ``joints`` in the file's order,
         ``tree`` parents first; ``complete``: no body or joint left out for its own problems."""
-        if pose == "world" and not closing:
-            self._closure(joints, bodies)  # joint by joint: those built can be checked
+        if pose == "world" and not closing:  # joint by joint: those built can be checked
+            self._closure([j for j in joints if not {j.parent, j.child} & self.points_slip],
+                          bodies)  # (not at a body whose points are in another unit: said)
             return bodies, None
         if not complete:
             return bodies, None
@@ -142,13 +147,34 @@ class Validator(Bodies, Topology):
             reference = place(bodies, tree, start)
             if not loops:
                 return reference, None  # a tree: the angles place it exactly
-        placed, result = assemble(bodies, tree, loops, start, reference, pose)
+        unit = self.unit_names.get("length", "m")
+        placed, result = assemble(bodies, tree, loops, start, reference, pose, unit)
         if placed is None:
+            if self.points_slip:  # a body's points in another unit, reported at them
+                return bodies, None
             loop, message = result
-            self.err(f"joints ({loop})", message)
+            start_of = (lambda b: tree_angles(b, tree)) if pose == "world" else lambda b: start
+            self.err(f"joints ({loop})", message + self._unit_hint(
+                unit_slips(bodies, tree, loops, start_of, unit), unit))
             return bodies, None
         self._far_from_sketch(result)
         return placed, result
+
+    def _unit_hint(self, slips: dict, unit: str) -> str:
+        """The loop's message's hint at bodies typed in another length unit (``unit_slips``),
+        naming their fields, or nothing."""
+        if not slips:
+            return ""
+        index = {b.get("name"): i for i, b in enumerate(self.data["bodies"])}
+        per = UNITS["length"][unit]
+        said = [("ground.points" if n == GROUND else f"bodies[{index[n]}] ({n}).points")
+                + f' read in "{s.unit}" (size {s.size_m / per:.4g} {unit} as typed, '
+                f"{s.meant_m / per:.4g} {unit} so read, the others' median {s.others_m / per:.4g}"
+                f" {unit})" for n, s in slips.items()]
+        units = sorted({s.unit for s in slips.values()})
+        typed = " or ".join(f'"{u}"' for u in units)
+        return (f"; a length unit slip? {' and '.join(said)} would close every loop: were they "
+                f'typed in {typed}, not units.length = "{unit}"?')
 
     def _far_from_sketch(self, result) -> None:
         """A warning where closing the loops turned a joint far from its given angle: rough
@@ -160,11 +186,11 @@ class Validator(Bodies, Topology):
                   if n not in result.slides}
         name = max(turned, key=turned.get, default=None)
         if name is not None and turned[name] > SKETCH_TURN_DEG:
-            gap = max(result.gaps_before_m.values())
+            gap = max(result.gaps_before_m.values()) / UNITS["length"][result.length_unit]
             self.warn(f"joints ({name})", f"closing the loops turned {name} {turned[name]:.4g} "
                       f"deg from its given angle (a warning beyond {SKETCH_TURN_DEG:g}; the "
-                      f"loops' gap was {gap * 1e3:.4g} mm): do the links' lengths match the "
-                      "sketch?")
+                      f"loops' gap was {gap:.4g} {result.length_unit}): do the links' lengths "
+                      "match the sketch?")
 
     def _task(self, t, bodies) -> tuple[tuple[str, str] | None, str | None]:
         """``[task]``: the tool point and, optionally, the body whose angle is the tool's
