@@ -10,7 +10,7 @@ import os
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, TEST_ROBOTS
 from scipy.optimize import minimize
 
 import planar_sym as ps
@@ -153,6 +153,13 @@ def test_refusals_name_the_mistake():
         ps.optimal_move(arm, [0, 0], [1, 1], duration_s=1.0, intervals=1)
     with pytest.raises(InputError, match=r"q_end must be 2 finite values"):
         ps.optimal_move(arm, [0, 0], [1, 1, 1], duration_s=1.0)
+    # numpy's own "could not convert string to float" came through, no end named
+    with pytest.raises(InputError, match=r"^q_start must be numbers \(rad; m at a slider\), "
+                                         r"got \['a', 'b'\]$"):
+        ps.optimal_move(arm, ["a", "b"], [1, 1], duration_s=1.0)
+    pendulum = ps.load(TEST_ROBOTS / "pendulum.toml")  # one value: no plural
+    with pytest.raises(InputError, match=r"^q_end must be 1 finite value for pendulum \(one "):
+        ps.optimal_move(pendulum, [0.0], [1.0, 2.0], duration_s=1.0)
     fb = ps.load("five_bar_type1")
     with pytest.raises(InputError, match="q_start is off five_bar_type1's loops"):
         ps.optimal_move(fb, np.zeros(4), [0.0, 0.0], duration_s=1.0)
@@ -298,3 +305,7 @@ def test_degrees_typed_as_radians_are_asked_about_once(monkeypatch):
         warnings.simplefilter("error")
         ps.optimal_move(arm, [0.5, 1.0], [1.5, -0.8], duration_s=1.0)
         ps.optimal_move(arm, [0.5, 1.0], [6.2, -6.2], duration_s=1.0)  # within a turn
+        ps.optimal_move(arm, [0.5, 1.0], [2 * np.pi, -2 * np.pi], duration_s=1.0)  # one turn
+    # the end is read too, and just past a turn is past it
+    with pytest.warns(RuntimeWarning, match=r"q_end\[1\] = -7 rad \(joint2\) is 1.11 turns"):
+        ps.optimal_move(arm, [0.5, 1.0], [1.5, -7.0], duration_s=1.0)

@@ -13,11 +13,11 @@ def stacked_jacobian(robot, q: np.ndarray, qd=None
     """K = [Phi_q; J] (N, n, n), the task coordinates x(q) (N, n_task) and Jdot qd (N, n_task)
     at the poses ``q`` (N, n) in rad (m at a slider), with rates ``qd`` (N, n), default zero;
     N may be 0 (nothing solved)."""
-    N, n, nt = len(q), robot.n, len(robot.task_names)
-    if N == 0:
+    n, nt = robot.n, len(robot.task_names)
+    if len(q) == 0:
         return np.zeros((0, n, n)), np.zeros((0, nt)), np.zeros((0, nt))
+    q = np.atleast_2d(q)  # (the robot's functions answer 2-D samples in their own shapes)
     x, J, jdq = robot.task(q, qd)
-    x, J, jdq = np.reshape(x, (N, nt)), np.reshape(J, (N, nt, n)), np.reshape(jdq, (N, nt))
     if robot.is_closed_chain:
-        J = np.concatenate([np.reshape(robot.constraint_jacobian(q), (N, -1, n)), J], axis=1)
+        J = np.concatenate([robot.constraint_jacobian(q), J], axis=1)
     return J, x, jdq

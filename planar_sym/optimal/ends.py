@@ -21,7 +21,10 @@ def move_ends(robot: Robot, q_start, q_end, own: list[int]) -> tuple[np.ndarray,
 
 def _end(robot: Robot, q, name: str, own: list[int]) -> np.ndarray:
     """The integrated coordinates of an end state given as them or as every coordinate."""
-    arr = np.asarray(q, dtype=float).ravel()
+    try:
+        arr = np.asarray(q, dtype=float).ravel()
+    except (TypeError, ValueError):  # numpy's "could not convert string to float: 'a'"
+        raise InputError(f"{name} must be numbers (rad; m at a slider), got {q!r}") from None
     if len(arr) == robot.n:
         if robot.is_closed_chain and np.abs(robot.constraint(arr)).max() > 1e-9:
             raise InputError(f"{name} is off {robot.name}'s loops (|Phi| = "
