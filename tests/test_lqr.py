@@ -301,3 +301,14 @@ def test_the_coulomb_slope_is_read_at_its_own_coordinate_of_a_closed_chain():
     slope = train.coulomb_slope(np.array([0.0, 1.0, 0.0, 0.3]))
     assert slope[2] == pytest.approx(5.0, rel=1e-15) and slope[[0, 1, 3]].tolist() == [0, 0, 0]
     assert train.coulomb_slope(np.array([0.0, 0.0, 1.0, 0.3]))[2] < 1e-80
+    # between: at v_s, c / v_s sech^2(1) by NumPy's cosh (2.0999 N*m*s/rad), a list of rates too
+    assert train.coulomb_slope([0.0, 0.0, 0.01, 0.0])[2] == pytest.approx(
+        5.0 / np.cosh(1.0) ** 2, rel=1e-14)
+    # the friction and the power it takes at E's rate: c tanh(1) and c tanh(1) v_s, per sample
+    # of (N, n) rates or of one (n,) state
+    assert train.friction([0.0, 0.0, 0.01, 0.0])[2] == pytest.approx(0.05 * np.tanh(1.0),
+                                                                     rel=1e-15)
+    power = 0.05 * np.tanh(1.0) * 0.01
+    assert train.friction_power([0.0, 3.0, 0.01, 0.0]) == pytest.approx(power, rel=1e-15)
+    assert np.allclose(train.friction_power(np.array([[0.0, 3.0, 0.01, 0.0]] * 2)), [power] * 2,
+                       rtol=1e-15, atol=0.0)

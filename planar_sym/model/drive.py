@@ -108,32 +108,14 @@ class DriveTrain:
     def friction(self, qd) -> np.ndarray:
         """D(qd) = b qd + c tanh(qd / v_s) per coordinate, shape like ``qd`` (N, n) or (n,):
         N*m (N at a slider), the torque the joint's friction takes (0 without a drive)."""
-        qd = np.asarray(qd, dtype=float)
         return self.viscous * qd + self.coulomb * np.tanh(qd / self.smoothing)
 
     def coulomb_slope(self, qd) -> np.ndarray:
         """d/dqd of the smoothed Coulomb friction, c / v_s sech^2(qd / v_s), per coordinate
         (shape like ``qd``): N*m*s/rad (N*s/m), the damping a linearisation counts it as, which
         holds only within about v_s of that rate (c / v_s at rest)."""
-        x = np.asarray(qd, dtype=float) / self.smoothing
-        return self.coulomb / self.smoothing * (1.0 - np.tanh(x) ** 2)
+        return self.coulomb / self.smoothing * (1.0 - np.tanh(qd / self.smoothing) ** 2)
 
     def friction_power(self, qd) -> np.ndarray:
         """D(qd) . qd (W), the power friction dissipates (>= 0), shape (N,) or ()."""
-        qd = np.asarray(qd, dtype=float)
         return np.sum(self.friction(qd) * qd, axis=-1)
-
-    # -- per actuator (N, actuated) arrays -----------------------------------------------------
-    @property
-    def gear_ratios(self) -> np.ndarray:
-        """N per actuator, shape (actuated,)."""
-        return np.array([d.gear_ratio for d in self.drives], dtype=float)
-
-    def motor_torque(self, tau) -> np.ndarray:
-        """tau / N (N*m) from the actuators' joint torques (N, actuated)."""
-        return np.asarray(tau, dtype=float) / self.gear_ratios
-
-    def motor_speed(self, qd) -> np.ndarray:
-        """N qd (rad/s) of every actuator, from every coordinate's rate (N, n)."""
-        qd = np.asarray(qd, dtype=float)
-        return qd[..., [d.coordinate for d in self.drives]] * self.gear_ratios
