@@ -626,3 +626,43 @@ def test_a_singular_pose_between_samples_is_said(derived, tmp_path):
     cond = np.linalg.cond(jac[:, :, list(robot.passive)], 1)
     assert cond.max() > 5e3 and 0 < np.argmax(cond) < len(cond) - 1  # inside the interval
     assert abs(float(got[5]) / cond.max() - 1) < 0.2 and float(got[6]) < 1e3
+
+
+def test_the_between_samples_warning_at_its_edges():
+    """``continuation.warn_between_samples`` at each edge of its rule (a mutation run left them
+    unpinned): two samples have a between; every sample at exactly COND_WARN is still below the
+    warning and a pass exactly at it is not above it; the message whole, with times and
+    without."""
+    from planar_sym.model.loops import COND_WARN
+
+    warn = continuation.warn_between_samples
+    said = ("r: between {a} and {b} the loops pass near a singular pose (Phi_p's 1-norm "
+            "condition number 2e+03 there, at most {c} at the samples): torques and joint loads "
+            "peak between the samples, so the peaks reported are too low; more samples resolve "
+            "them")
+    for cond, t, a, b in (([10.0, 10.0], None, "sample 0", "sample 1"),
+                          ([10.0, COND_WARN], [0.0, 0.5], "t = 0 s (sample 0)",
+                           "t = 0.5 s (sample 1)")):
+        with pytest.warns(RuntimeWarning) as rec:
+            warn("r", np.array(cond), np.array([10.0, 2 * COND_WARN]),
+                 None if t is None else np.array(t))
+        assert [str(w.message) for w in rec] == [said.format(a=a, b=b, c=f"{max(cond):.3g}")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warn("r", np.array([10.0]), np.array([2 * COND_WARN]), None)  # one sample: no between
+        warn("r", np.array([10.0, 10.0]), np.array([10.0, COND_WARN]), None)  # not above
+        warn("r", np.array([10.0, 2 * COND_WARN]), np.array([10.0, 3 * COND_WARN]), None)
+
+
+def test_a_slider_driven_chain_s_refusal_has_no_degrees():
+    """A closed chain driven by a slider: its actuated coordinate in m has no degrees to give,
+    and the refusal's units end where they do (a mutation left '; ' appended there)."""
+    robot = ps.load("slider_crank_slider_driven")
+    act, pas = closure.partition(robot)
+    loops = continuation.Loops(robot, act, pas)
+    assert loops.degrees(np.array([0.1])) == ""
+    with pytest.raises(WorkspaceError) as err:
+        loops.refuse_outside(np.array([5.0]), 1.0, np.array([0.0, 0.25]), 1)
+    assert str(err.value) == (
+        "slider_crank_slider_driven: the loops cannot be closed at t = 0.25 s (sample 1) for "
+        "actuated coordinates [5.0] (m) (|Phi| = 1 m): outside the workspace")
