@@ -666,3 +666,26 @@ def test_a_slider_driven_chain_s_refusal_has_no_degrees():
     assert str(err.value) == (
         "slider_crank_slider_driven: the loops cannot be closed at t = 0.25 s (sample 1) for "
         "actuated coordinates [5.0] (m) (|Phi| = 1 m): outside the workspace")
+
+
+def test_a_first_sample_in_the_other_mode_says_how_to_start_there(four, monkeypatch):
+    """From the drawn pose to the first sample the loops would change assembly mode: the
+    refusal names the drawn pose as where it came from and, the first sample only, how to
+    start in the other mode (a mutation run left the hint unpinned). Newton is replaced below
+    crank 1.0 rad by the other mode; the drawn crank is 1.047 rad."""
+    assert four.q_drawn[0] > 1.0
+
+    def land(self, q, real):
+        if q[0] >= 1.0:
+            return real(self, q)
+        other = four_bar_closed_form(four, [q[0]], upper=False)[0]
+        return other, float(np.max(np.abs(four.constraint(other))))
+
+    spy(monkeypatch, land)
+    with pytest.raises(WorkspaceError) as exc:
+        closure.solve_passive(four, [[0.95], [0.9]], None, np.array([0.0, 0.25]))
+    assert str(exc.value) == (
+        "four_bar: between the drawn pose and t = 0 s (sample 0) the passive joints pass a "
+        "singular pose (det Phi_p changes sign): the loops would go on in another assembly "
+        "mode, so the motion leaves the workspace of the mode it started in; to start in "
+        "another assembly mode, give a start pose in it (start_pose, q_guess)")
