@@ -287,6 +287,9 @@ def test_a_design_leaning_on_smoothed_coulomb_friction_is_said():
     # at 100 v_s
     assert robot.drive_train.coulomb_slope([0.0])[0] == pytest.approx(5.0, rel=1e-15)
     assert robot.drive_train.coulomb_slope([1.0])[0] < 1e-80
+    # the smoothing speed is a parameter too (vs_j1): doubled, the slope at rest halves
+    assert robot.with_parameters(vs_j1=0.02).drive_train.coulomb_slope([0.0])[0] == (
+        pytest.approx(2.5, rel=1e-15))
 
 
 def test_the_coulomb_slope_is_read_at_its_own_coordinate_of_a_closed_chain():
