@@ -290,6 +290,9 @@ def test_a_singular_start_is_refused_between_the_first_two_samples(par):
     with pytest.raises(WorkspaceError) as exc:
         closure.solve_passive(par, [[0.0], [0.1], [0.2]], [0, 0, 0], t)
     assert str(exc.value).startswith(SINGULAR.format(name="parallelogram", where=between, cond="inf"))
+    crank = par.coordinates[par.actuated[0]]  # where the start is, in its units and degrees
+    assert (f"> 1e+06 (actuated coordinates there: [0.0] (rad; {crank} = 0 deg)): the actuated "
+            "joints cannot drive") in str(exc.value)
     d = 1e-6
     cond = cond1(par, [d, -d, d])
     assert COND_LIMIT < cond < 1e7
@@ -327,6 +330,10 @@ def test_a_five_bar_start_at_its_workspace_edge_is_refused(five):
     where = "between t = 1 s (sample 0) and t = 2 s (sample 1)"
     assert str(exc.value).startswith(SINGULAR.format(name="five_bar_type1", where=where,
                                              cond=f"{cond:.3g}"))
+    # the start's actuated coordinates, to 9 decimals, with their units and degrees
+    there = np.round(q[list(five.actuated)], 9).tolist()
+    assert (f" (actuated coordinates there: {there} (rad, rad; A = {np.degrees(there[0]):.6g} "
+            f"deg, E = {np.degrees(there[1]):.6g} deg)): the actuated joints") in str(exc.value)
 
 
 def test_a_singular_sample_reached_in_one_step_is_refused_at_it(par):
